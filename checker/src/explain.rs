@@ -1,0 +1,86 @@
+//! `genom-check explain CODE`: the long explanation of every diagnostic code
+//! (what it finds, why it matters, an example), as `rustc --explain` does.
+//! Each text lives next to the code that produces the diagnostic.
+
+use genom_model::Code;
+
+/// The explanation of a code, in Markdown.
+pub fn explanation(code: Code) -> String {
+    let body = body(code);
+    let header = format!(
+        "# `{}` ({})\n\n{}.\n",
+        code.as_str(),
+        code.severity().as_str(),
+        capitalise(code.meaning())
+    );
+    if body.is_empty() {
+        header
+    } else {
+        format!("{header}\n{}", body.trim_end()) + "\n"
+    }
+}
+
+/// The explanation text of each code, from the file that produces it.
+fn body(code: Code) -> &'static str {
+    use crate::checks::*;
+    use genom_parser::diagnostics::explain as parser;
+    match code {
+        Code::Syntax => parser::SYNTAX,
+        Code::IncludeNotFound => parser::INCLUDE_NOT_FOUND,
+        Code::IncludeCycle => parser::INCLUDE_CYCLE,
+        Code::MissingComponent => missing_component::EXPLANATION,
+        Code::DuplicateDefinition => duplicate_definition::EXPLANATION,
+        Code::UnknownType
+        | Code::UnknownData
+        | Code::UnknownThread
+        | Code::UnknownService
+        | Code::UnknownCodel
+        | Code::UnknownReport
+        | Code::UnknownCredential => unknown_name::EXPLANATION,
+        Code::InvalidAttribute => invalid_attribute::EXPLANATION,
+        Code::MissingStart => service_structure::EXPLANATION_MISSING_START,
+        Code::MissingThread => service_structure::EXPLANATION_MISSING_THREAD,
+        Code::MultipleInit => service_structure::EXPLANATION_MULTIPLE_INIT,
+        Code::DuplicateCodelKind => service_structure::EXPLANATION_DUPLICATE_CODEL_KIND,
+        Code::BadNext => codel_transitions::EXPLANATION_BAD_NEXT,
+        Code::BadOnInter => codel_transitions::EXPLANATION_BAD_ON_INTER,
+        Code::AmbiguousName => codel_transitions::EXPLANATION_AMBIGUOUS_NAME,
+        Code::TypeMismatch => type_mismatch::EXPLANATION,
+        Code::PrototypeMismatch => prototype_mismatch::EXPLANATION,
+        Code::UpdateNotArgument => update_rules::EXPLANATION_NOT_ARGUMENT,
+        Code::ConstUpdate => update_rules::EXPLANATION_CONST,
+        _ => "",
+    }
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    c.next().map_or_else(String::new, |f| {
+        f.to_uppercase().collect::<String>() + c.as_str()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_code_has_a_header_with_its_severity() {
+        for &code in Code::ALL {
+            let text = explanation(code);
+            assert!(
+                text.starts_with(&format!(
+                    "# `{}` ({})",
+                    code.as_str(),
+                    code.severity().as_str()
+                )),
+                "{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn syntax_explanation_has_an_example() {
+        assert!(explanation(Code::Syntax).contains("```"));
+    }
+}

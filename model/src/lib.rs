@@ -1,0 +1,17 @@
+//! The shared foundation of genom-check: source spans and files, the one
+//! diagnostic type with its stable codes, traces and their rendering (human
+//! reports with miette, and the versioned JSON document); the resolved
+//! component model that every verification stage and export reads.
+
+pub mod component;
+pub mod diagnostic;
+pub mod kinds;
+pub mod render;
+pub mod span;
+pub mod stats;
+pub mod trace;
+
+pub use diagnostic::{Code, Counts, Diagnostic, Label, Severity, sort_diagnostics};
+pub use span::{FileId, Located, SourceFile, SourceMap, Span};
+pub use stats::Statistics;
+pub use trace::{Event, Trace, TraceStep};

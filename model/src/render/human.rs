@@ -1,0 +1,377 @@
+//! Human output: miette graphical reports with source snippets, labels and
+//! help, a numbered trace for behavioural verdicts, and a one-line summary.
+
+use std::fmt::{self, Write as _};
+
+use miette::{
+    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents,
+    SourceCode, SourceSpan, SpanContents,
+};
+
+use super::FileReport;
+use crate::diagnostic::{Counts, Diagnostic, Severity};
+use crate::span::{FileId, SourceMap, Span};
+use crate::trace::Trace;
+
+/// How to draw reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HumanOptions {
+    /// ANSI colours.
+    pub color: bool,
+    /// Line width for wrapping.
+    pub width: usize,
+}
+
+impl Default for HumanOptions {
+    fn default() -> Self {
+        Self {
+            color: false,
+            width: 100,
+        }
+    }
+}
+
+/// Renders every diagnostic of a file (not the summary).
+pub fn render_diagnostics(report: &FileReport<'_>, options: HumanOptions) -> String {
+    let mut out = String::new();
+    for d in report.diagnostics {
+        out.push_str(&render_diagnostic(report.sources, d, options));
+    }
+    out
+}
+
+/// Renders one diagnostic as a graphical report followed by its trace.
+pub fn render_diagnostic(sources: &SourceMap, d: &Diagnostic, options: HumanOptions) -> String {
+    let theme = if options.color {
+        GraphicalTheme::unicode()
+    } else {
+        GraphicalTheme::unicode_nocolor()
+    };
+    let handler = GraphicalReportHandler::new_themed(theme)
+        .with_width(options.width)
+        .with_links(false);
+    let adapter = Report::new(sources, d);
+    let mut out = String::new();
+    if handler.render_report(&mut out, &adapter).is_err() {
+        let _ = writeln!(out, "{}: {}", d.code, d.message);
+    }
+    if let Some(trace) = &d.trace {
+        out.push_str(&render_trace(sources, trace));
+    }
+    out.push('\n');
+    out
+}
+
+/// The one-line summary: `pilot.gen: 0 errors, 0 warnings, 1 advice`.
+pub fn render_summary(path: &str, counts: Counts) -> String {
+    format!(
+        "{path}: {} {}, {} {}, {} advice",
+        counts.errors,
+        plural(counts.errors, "error"),
+        counts.warnings,
+        plural(counts.warnings, "warning"),
+        counts.advice
+    )
+}
+
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        word.to_owned()
+    } else {
+        format!("{word}s")
+    }
+}
+
+/// Renders a trace as numbered steps with the source line of each.
+pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
+    let mut out = String::from("  trace:\n");
+    for (i, step) in trace.steps.iter().enumerate() {
+        if trace.loop_start == Some(i) {
+            out.push_str("      -- the following steps repeat forever --\n");
+        }
+        let time = step
+            .time_ns
+            .map(|t| format!("[{}] ", format_ns(t)))
+            .unwrap_or_default();
+        let place = step.span.map(|s| location(sources, s)).unwrap_or_default();
+        let _ = writeln!(out, "  {:>4}. {time}{}{place}", i + 1, step.text);
+    }
+    out
+}
+
+fn location(sources: &SourceMap, span: Span) -> String {
+    let Some(loc) = sources.locate(span) else {
+        return String::new();
+    };
+    let Some(file) = sources.file(loc.file) else {
+        return String::new();
+    };
+    let (line, _) = file.line_col(loc.offset);
+    format!("  ({}:{line})", file.display_path())
+}
+
+/// Formats nanoseconds with the largest unit that divides them exactly.
+pub fn format_ns(ns: u64) -> String {
+    const UNITS: [(u64, &str); 4] = [
+        (60_000_000_000, "min"),
+        (1_000_000_000, "s"),
+        (1_000_000, "ms"),
+        (1_000, "us"),
+    ];
+    if ns == 0 {
+        return "0".to_owned();
+    }
+    for (factor, unit) in UNITS {
+        if ns % factor == 0 {
+            return format!("{}{unit}", ns / factor);
+        }
+    }
+    format!("{ns}ns")
+}
+
+/// Adapts a diagnostic to miette: labels in the primary file are shown in
+/// the main snippet; labels in other files become related reports.
+struct Report<'a> {
+    diagnostic: &'a Diagnostic,
+    /// For a related report: its own message (the label's text).
+    related_message: Option<String>,
+    source: Option<FileSource<'a>>,
+    labels: Vec<LabeledSpan>,
+    related: Vec<Report<'a>>,
+}
+
+impl<'a> Report<'a> {
+    fn new(sources: &'a SourceMap, d: &'a Diagnostic) -> Self {
+        let primary = sources.locate(d.span()).map(|l| l.file);
+        let mut labels = Vec::new();
+        let mut related = Vec::new();
+        for label in &d.labels {
+            let Some(loc) = sources.locate(label.span) else {
+                continue;
+            };
+            if Some(loc.file) == primary {
+                labels.push(labeled(
+                    &label.message,
+                    loc.offset,
+                    loc.length,
+                    labels.is_empty(),
+                ));
+            } else {
+                related.push(Report::related(sources, d, loc.file, &label.message, loc));
+            }
+        }
+        let source = primary.and_then(|f| FileSource::new(sources, f));
+        Report {
+            diagnostic: d,
+            related_message: None,
+            source,
+            labels,
+            related,
+        }
+    }
+
+    fn related(
+        sources: &'a SourceMap,
+        d: &'a Diagnostic,
+        file: FileId,
+        message: &str,
+        loc: crate::span::Located,
+    ) -> Self {
+        let text = if message.is_empty() {
+            "related location"
+        } else {
+            message
+        };
+        Report {
+            diagnostic: d,
+            related_message: Some(text.to_owned()),
+            source: FileSource::new(sources, file),
+            labels: vec![labeled("", loc.offset, loc.length, true)],
+            related: Vec::new(),
+        }
+    }
+}
+
+fn labeled(message: &str, offset: u32, length: u32, primary: bool) -> LabeledSpan {
+    let text = (!message.is_empty()).then(|| message.to_owned());
+    let span = SourceSpan::new((offset as usize).into(), length as usize);
+    if primary {
+        LabeledSpan::new_primary_with_span(text, span)
+    } else {
+        LabeledSpan::new_with_span(text, span)
+    }
+}
+
+impl fmt::Debug for Report<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Report")
+            .field("code", &self.diagnostic.code)
+            .finish()
+    }
+}
+
+impl fmt::Display for Report<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(
+            self.related_message
+                .as_deref()
+                .unwrap_or(&self.diagnostic.message),
+        )
+    }
+}
+
+impl std::error::Error for Report<'_> {}
+
+impl miette::Diagnostic for Report<'_> {
+    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        if self.related_message.is_some() {
+            return None;
+        }
+        Some(Box::new(self.diagnostic.code.as_str()))
+    }
+
+    fn severity(&self) -> Option<miette::Severity> {
+        if self.related_message.is_some() {
+            return Some(miette::Severity::Advice);
+        }
+        Some(match self.diagnostic.severity {
+            Severity::Error => miette::Severity::Error,
+            Severity::Warning => miette::Severity::Warning,
+            Severity::Advice => miette::Severity::Advice,
+        })
+    }
+
+    fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        if self.related_message.is_some() {
+            return None;
+        }
+        self.diagnostic
+            .help
+            .as_deref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        self.source.as_ref().map(|s| s as &dyn SourceCode)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(self.labels.iter().cloned()))
+    }
+
+    fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn miette::Diagnostic> + 'b>> {
+        if self.related.is_empty() {
+            return None;
+        }
+        Some(Box::new(
+            self.related.iter().map(|r| r as &dyn miette::Diagnostic),
+        ))
+    }
+}
+
+/// One file's text, named, as a miette source.
+struct FileSource<'a> {
+    name: String,
+    text: &'a str,
+}
+
+impl<'a> FileSource<'a> {
+    fn new(sources: &'a SourceMap, file: FileId) -> Option<Self> {
+        let f = sources.file(file)?;
+        Some(FileSource {
+            name: f.display_path(),
+            text: &f.text,
+        })
+    }
+}
+
+impl SourceCode for FileSource<'_> {
+    fn read_span<'b>(
+        &'b self,
+        span: &SourceSpan,
+        context_lines_before: usize,
+        context_lines_after: usize,
+    ) -> Result<Box<dyn SpanContents<'b> + 'b>, MietteError> {
+        let inner = self
+            .text
+            .read_span(span, context_lines_before, context_lines_after)?;
+        Ok(Box::new(MietteSpanContents::new_named(
+            self.name.clone(),
+            inner.data(),
+            *inner.span(),
+            inner.line(),
+            inner.column(),
+            inner.line_count(),
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Code;
+
+    #[test]
+    fn summary_pluralises() {
+        let c = Counts {
+            errors: 1,
+            warnings: 2,
+            advice: 1,
+        };
+        assert_eq!(
+            render_summary("pilot.gen", c),
+            "pilot.gen: 1 error, 2 warnings, 1 advice"
+        );
+        assert_eq!(
+            render_summary("a.gen", Counts::default()),
+            "a.gen: 0 errors, 0 warnings, 0 advice"
+        );
+    }
+
+    #[test]
+    fn durations_use_the_largest_exact_unit() {
+        assert_eq!(format_ns(1_000_000_000), "1s");
+        assert_eq!(format_ns(1_500_000_000), "1500ms");
+        assert_eq!(format_ns(250_000), "250us");
+        assert_eq!(format_ns(7), "7ns");
+        assert_eq!(format_ns(120_000_000_000), "2min");
+    }
+
+    #[test]
+    fn report_shows_code_snippet_label_and_help() {
+        let mut map = SourceMap::new();
+        map.add("x.gen", "component x {\n  lang C;\n}\n".into());
+        let d = Diagnostic::new(
+            Code::Syntax,
+            "expected `:`",
+            Span::new(21, 22),
+            "expected `:` here",
+        )
+        .with_help("attributes are written `name: value;`");
+        let text = render_diagnostic(&map, &d, HumanOptions::default());
+        assert!(text.contains("syntax"), "{text}");
+        assert!(text.contains("expected `:`"), "{text}");
+        assert!(text.contains("x.gen:2:"), "{text}");
+        assert!(text.contains("lang C;"), "{text}");
+        assert!(text.contains("attributes are written"), "{text}");
+    }
+
+    #[test]
+    fn labels_in_other_files_become_related_reports() {
+        let mut map = SourceMap::new();
+        map.add("a.gen", "include \"b.idl\";\n".into());
+        let b = map.add("b.idl", "struct S { long x; };\n".into());
+        let base = map.file(b).unwrap().base;
+        let d = Diagnostic::new(
+            Code::DuplicateDefinition,
+            "`S` is defined twice",
+            Span::new(0, 7),
+            "here",
+        )
+        .with_label(Span::new(base + 7, base + 8), "first defined here");
+        let text = render_diagnostic(&map, &d, HumanOptions::default());
+        assert!(text.contains("a.gen:1:1"), "{text}");
+        assert!(text.contains("b.idl:1:8"), "{text}");
+        assert!(text.contains("first defined here"), "{text}");
+    }
+}

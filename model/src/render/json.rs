@@ -1,0 +1,287 @@
+//! Machine output: one versioned JSON document for a whole run
+//! (`--format json`). The format is documented in `docs/json-format.md`;
+//! bump [`FORMAT_VERSION`] on any incompatible change.
+
+use serde::Serialize;
+
+use super::FileReport;
+use crate::diagnostic::{Counts, Diagnostic};
+use crate::span::{SourceMap, Span};
+use crate::stats::Statistics;
+use crate::trace::{Trace, TraceStep};
+
+/// Version of the JSON document format.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The whole document.
+#[derive(Debug, Serialize)]
+pub struct JsonDocument {
+    /// Format version.
+    pub version: u32,
+    /// One entry per checked file, in command-line order.
+    pub files: Vec<JsonFile>,
+    /// Totals over all files.
+    pub summary: JsonSummary,
+}
+
+/// One checked file.
+#[derive(Debug, Serialize)]
+pub struct JsonFile {
+    /// The path as given.
+    pub path: String,
+    /// Its diagnostics, sorted.
+    pub diagnostics: Vec<JsonDiagnostic>,
+    /// Exploration figures, or null when the engines did not run.
+    pub statistics: Option<Statistics>,
+}
+
+/// Totals.
+#[derive(Debug, Serialize)]
+pub struct JsonSummary {
+    /// Number of errors.
+    pub errors: usize,
+    /// Number of warnings.
+    pub warnings: usize,
+    /// Number of advice.
+    pub advice: usize,
+    /// States explored over all files.
+    pub states: u64,
+    /// Transitions fired over all files.
+    pub transitions: u64,
+    /// Wall-clock time over all files, in milliseconds.
+    pub time_ms: f64,
+}
+
+/// A location: file, 1-based line and column, byte span in that file.
+#[derive(Debug, Serialize)]
+pub struct JsonLocation {
+    /// The file the span is in.
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column, in characters.
+    pub column: usize,
+    /// Byte offset and length within that file.
+    pub span: JsonSpan,
+}
+
+/// Byte offset and length within a file.
+#[derive(Debug, Serialize)]
+pub struct JsonSpan {
+    /// Byte offset from the start of the file.
+    pub offset: u32,
+    /// Length in bytes.
+    pub length: u32,
+}
+
+/// One diagnostic.
+#[derive(Debug, Serialize)]
+pub struct JsonDiagnostic {
+    /// Stable code.
+    pub code: &'static str,
+    /// `error`, `warning` or `advice`.
+    pub severity: &'static str,
+    /// Message.
+    pub message: String,
+    /// Primary location.
+    #[serde(flatten)]
+    pub location: JsonLocation,
+    /// All labels, the primary first.
+    pub labels: Vec<JsonLabel>,
+    /// Help, or null.
+    pub help: Option<String>,
+    /// Trace steps, or null.
+    pub trace: Option<Vec<JsonStep>>,
+}
+
+/// A labelled span.
+#[derive(Debug, Serialize)]
+pub struct JsonLabel {
+    /// The label text.
+    pub message: String,
+    /// Where.
+    #[serde(flatten)]
+    pub location: JsonLocation,
+}
+
+/// One trace step.
+#[derive(Debug, Serialize)]
+pub struct JsonStep {
+    /// 1-based step number.
+    pub step: usize,
+    /// Event kind (`request`, `codel-end`, ...).
+    pub event: &'static str,
+    /// Time in nanoseconds since component start, or null when untimed.
+    pub time_ns: Option<u64>,
+    /// Thread, or null.
+    pub thread: Option<String>,
+    /// Service, or null.
+    pub service: Option<String>,
+    /// Codel, or null.
+    pub codel: Option<String>,
+    /// Outcome, reject reason or reply, or null.
+    pub outcome: Option<String>,
+    /// Whether this step starts the cycle that repeats forever.
+    pub loop_start: bool,
+    /// Description.
+    pub text: String,
+    /// Source location, or null.
+    pub location: Option<JsonLocation>,
+}
+
+/// Builds the document for a run.
+pub fn document(reports: &[FileReport<'_>]) -> JsonDocument {
+    let mut counts = Counts::default();
+    let mut summary = JsonSummary {
+        errors: 0,
+        warnings: 0,
+        advice: 0,
+        states: 0,
+        transitions: 0,
+        time_ms: 0.0,
+    };
+    let files = reports
+        .iter()
+        .map(|r| {
+            counts.merge(r.counts());
+            if let Some(s) = r.statistics {
+                summary.states += s.states;
+                summary.transitions += s.transitions;
+                summary.time_ms += s.time_ms;
+            }
+            JsonFile {
+                path: r.path.to_owned(),
+                diagnostics: r
+                    .diagnostics
+                    .iter()
+                    .map(|d| diagnostic(r.sources, d))
+                    .collect(),
+                statistics: r.statistics.cloned(),
+            }
+        })
+        .collect();
+    summary.errors = counts.errors;
+    summary.warnings = counts.warnings;
+    summary.advice = counts.advice;
+    JsonDocument {
+        version: FORMAT_VERSION,
+        files,
+        summary,
+    }
+}
+
+/// Renders the document as pretty JSON text.
+pub fn render(reports: &[FileReport<'_>]) -> String {
+    serde_json::to_string_pretty(&document(reports))
+        .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+}
+
+/// Converts one diagnostic.
+pub fn diagnostic(sources: &SourceMap, d: &Diagnostic) -> JsonDiagnostic {
+    JsonDiagnostic {
+        code: d.code.as_str(),
+        severity: d.severity.as_str(),
+        message: d.message.clone(),
+        location: location(sources, d.span()),
+        labels: d
+            .labels
+            .iter()
+            .map(|l| JsonLabel {
+                message: l.message.clone(),
+                location: location(sources, l.span),
+            })
+            .collect(),
+        help: d.help.clone(),
+        trace: d.trace.as_ref().map(|t| trace(sources, t)),
+    }
+}
+
+fn trace(sources: &SourceMap, t: &Trace) -> Vec<JsonStep> {
+    t.steps
+        .iter()
+        .enumerate()
+        .map(|(i, s)| step(sources, i, s, t.loop_start == Some(i)))
+        .collect()
+}
+
+fn step(sources: &SourceMap, i: usize, s: &TraceStep, loop_start: bool) -> JsonStep {
+    JsonStep {
+        step: i + 1,
+        event: s.event.as_str(),
+        time_ns: s.time_ns,
+        thread: s.thread.clone(),
+        service: s.service.clone(),
+        codel: s.codel.clone(),
+        outcome: s.outcome.clone(),
+        loop_start,
+        text: s.text.clone(),
+        location: s.span.map(|sp| location(sources, sp)),
+    }
+}
+
+/// Resolves a global span to file, line, column and local span.
+pub fn location(sources: &SourceMap, span: Span) -> JsonLocation {
+    let located = sources.locate(span);
+    let file = located.and_then(|l| sources.file(l.file));
+    match (located, file) {
+        (Some(l), Some(f)) => {
+            let (line, column) = f.line_col(l.offset);
+            JsonLocation {
+                file: f.display_path(),
+                line,
+                column,
+                span: JsonSpan {
+                    offset: l.offset,
+                    length: l.length,
+                },
+            }
+        }
+        _ => JsonLocation {
+            file: String::new(),
+            line: 1,
+            column: 1,
+            span: JsonSpan {
+                offset: 0,
+                length: 0,
+            },
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Code;
+
+    #[test]
+    fn document_has_the_documented_shape() {
+        let mut map = SourceMap::new();
+        map.add("specs/x.gen", "component x {}\nfoo\n".into());
+        let d = Diagnostic::new(Code::Syntax, "expected item", Span::new(15, 18), "here");
+        let diags = [d];
+        let report = FileReport {
+            path: "specs/x.gen",
+            sources: &map,
+            diagnostics: &diags,
+            statistics: None,
+        };
+        let v: serde_json::Value = serde_json::from_str(&render(&[report])).unwrap();
+        assert_eq!(v["version"], 1);
+        let d = &v["files"][0]["diagnostics"][0];
+        assert_eq!(d["code"], "syntax");
+        assert_eq!(d["severity"], "error");
+        assert_eq!(d["file"], "specs/x.gen");
+        assert_eq!(
+            (d["line"].as_u64(), d["column"].as_u64()),
+            (Some(2), Some(1))
+        );
+        assert_eq!(d["span"]["offset"], 15);
+        assert_eq!(d["span"]["length"], 3);
+        assert_eq!(d["labels"][0]["message"], "here");
+        assert_eq!(d["labels"][0]["line"], 2);
+        assert!(d["help"].is_null());
+        assert!(d["trace"].is_null());
+        assert_eq!(v["summary"]["errors"], 1);
+        assert_eq!(v["summary"]["warnings"], 0);
+    }
+}

@@ -1,0 +1,32 @@
+//! Rendering of diagnostics, the one place where a [`Diagnostic`] becomes
+//! text: graphical reports with miette ([`human`]) and the versioned JSON
+//! document ([`json`]). Rendering returns strings; only the binary prints.
+//!
+//! [`Diagnostic`]: crate::Diagnostic
+
+pub mod human;
+pub mod json;
+
+use crate::diagnostic::{Counts, Diagnostic};
+use crate::span::SourceMap;
+use crate::stats::Statistics;
+
+/// Everything known about one checked file, ready to render.
+#[derive(Debug, Clone, Copy)]
+pub struct FileReport<'a> {
+    /// The path as the user gave it.
+    pub path: &'a str,
+    /// The checked file and every file it includes.
+    pub sources: &'a SourceMap,
+    /// Sorted diagnostics.
+    pub diagnostics: &'a [Diagnostic],
+    /// Exploration figures, when the behavioural engines ran.
+    pub statistics: Option<&'a Statistics>,
+}
+
+impl FileReport<'_> {
+    /// Counts of this file's diagnostics by severity.
+    pub fn counts(&self) -> Counts {
+        Counts::of(self.diagnostics)
+    }
+}

@@ -1,0 +1,21 @@
+//! Prints the AST and diagnostics of a file (debugging aid).
+#![allow(clippy::print_stdout)]
+fn main() {
+    let path = std::env::args().nth(1).unwrap_or_default();
+    match genom_parser::parse_file(std::path::Path::new(&path), &genom_parser::FsLoader) {
+        Ok(r) => {
+            println!("{:#?}", r.ast);
+            for d in &r.diagnostics {
+                println!(
+                    "{}",
+                    genom_model::render::human::render_diagnostic(
+                        &r.sources,
+                        d,
+                        Default::default()
+                    )
+                );
+            }
+        }
+        Err(e) => println!("cannot read {path}: {e}"),
+    }
+}

@@ -1,0 +1,96 @@
+//! `genom-check check FILE...`: checks each file and prints the reports
+//! (human or JSON), then returns the exit status.
+
+use std::path::Path;
+
+use genom_checker::{CheckOptions, CheckResult};
+use genom_model::render::{FileReport, human, json};
+use genom_model::{Counts, Severity};
+use genom_parser::FsLoader;
+
+use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
+use crate::cli::{CheckArgs, Deny, Format, OutputArgs};
+use crate::terminal;
+
+/// Checks every file, prints, and returns the exit status.
+pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
+    let options = CheckOptions::new();
+    let mut io_failed = false;
+    let mut results: Vec<(String, CheckResult)> = Vec::new();
+    for path in &args.files {
+        let shown = display(path);
+        match genom_checker::check_file(path, &FsLoader, &options) {
+            Ok(result) => results.push((shown, result)),
+            Err(e) => {
+                eprintln!("error: cannot read `{shown}`: {e}");
+                io_failed = true;
+            }
+        }
+    }
+    let reports: Vec<FileReport<'_>> = results
+        .iter()
+        .map(|(path, r)| FileReport {
+            path,
+            sources: &r.sources,
+            diagnostics: &r.diagnostics,
+            statistics: r.statistics.as_ref(),
+        })
+        .collect();
+    match output.format {
+        Format::Human => print_human(&reports, output),
+        Format::Json => terminal::emit(&(json::render(&reports) + "\n")),
+    }
+    exit_status(&reports, output.deny, io_failed)
+}
+
+fn display(path: &Path) -> String {
+    path.to_string_lossy().replace('\\', "/")
+}
+
+fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
+    let options = human::HumanOptions {
+        color: terminal::use_color(output.color),
+        width: terminal::width(),
+    };
+    for report in reports {
+        for d in report.diagnostics {
+            if output.quiet && d.severity == Severity::Advice {
+                continue;
+            }
+            terminal::emit(&human::render_diagnostic(report.sources, d, options));
+        }
+        if !output.quiet {
+            terminal::emit(&(summary_line(report) + "\n"));
+        }
+    }
+}
+
+fn summary_line(report: &FileReport<'_>) -> String {
+    let mut line = human::render_summary(report.path, report.counts());
+    if let Some(s) = report.statistics {
+        line.push_str(&format!(
+            " ({} states, {} transitions, {:.1} ms{})",
+            s.states,
+            s.transitions,
+            s.time_ms,
+            if s.complete { "" } else { ", incomplete" }
+        ));
+    }
+    line
+}
+
+fn exit_status(reports: &[FileReport<'_>], deny: Option<Deny>, io_failed: bool) -> u8 {
+    if io_failed {
+        return EXIT_USAGE;
+    }
+    let mut counts = Counts::default();
+    for r in reports {
+        counts.merge(r.counts());
+    }
+    let denied_warnings = deny == Some(Deny::Warnings) && counts.warnings > 0;
+    if counts.errors > 0 || denied_warnings {
+        EXIT_ERRORS
+    } else {
+        EXIT_OK
+    }
+}

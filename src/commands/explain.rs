@@ -1,0 +1,24 @@
+//! `genom-check explain CODE`.
+
+use genom_model::Code;
+
+use super::{EXIT_OK, EXIT_USAGE};
+use crate::cli::ExplainArgs;
+
+/// Prints the explanation of a code.
+pub fn run(args: &ExplainArgs) -> u8 {
+    match args.code.parse::<Code>() {
+        Ok(code) => {
+            crate::terminal::emit(&genom_checker::explain::explanation(code));
+            EXIT_OK
+        }
+        Err(e) => {
+            let known: Vec<&str> = Code::ALL.iter().map(|c| c.as_str()).collect();
+            let hint = genom_parser::diagnostics::closest(&args.code, known.iter().copied())
+                .map(|c| format!(" (did you mean `{c}`?)"))
+                .unwrap_or_default();
+            eprintln!("error: {e}{hint}; known codes: {}", known.join(", "));
+            EXIT_USAGE
+        }
+    }
+}

@@ -1,0 +1,22 @@
+//! The subcommands. Each returns the process exit status.
+
+mod check;
+mod explain;
+
+use crate::cli::{Cli, Command};
+
+/// No error.
+pub const EXIT_OK: u8 = 0;
+/// Errors found (or warnings with `--deny warnings`).
+pub const EXIT_ERRORS: u8 = 1;
+/// Usage or I/O problem.
+pub const EXIT_USAGE: u8 = 2;
+
+/// Runs the command line.
+pub fn run(cli: Cli) -> u8 {
+    match cli.command {
+        Some(Command::Check(args)) => check::run(&args, &cli.output),
+        Some(Command::Explain(args)) => explain::run(&args),
+        None => check::run(&cli.check, &cli.output),
+    }
+}

@@ -1,0 +1,260 @@
+//! Command-line behaviour: exit statuses (LANGUAGE.md section 4), output
+//! formats, options, and I/O problems that must give exit 2 without a panic.
+
+#![allow(clippy::expect_used)] // test support code outside #[test] functions
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use serde_json::Value;
+
+fn genom_check() -> Command {
+    let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
+    cmd.env_remove("NO_COLOR").env("TERM", "xterm");
+    cmd
+}
+
+const INVALID: &str = "tests/fixtures/invalid/syntax.several-errors.gen";
+
+#[test]
+fn pilot_checks_clean_with_exit_zero_and_a_summary() {
+    genom_check()
+        .arg("specs/pilot.gen")
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains(
+            "specs/pilot.gen: 0 errors, 0 warnings",
+        ));
+}
+
+#[test]
+fn check_subcommand_is_the_default() {
+    let plain = genom_check().arg(INVALID).output().unwrap();
+    let explicit = genom_check().args(["check", INVALID]).output().unwrap();
+    assert_eq!(plain.status.code(), Some(1));
+    assert_eq!(plain.stdout, explicit.stdout);
+    assert_eq!(explicit.status.code(), Some(1));
+}
+
+#[test]
+fn errors_give_exit_one_and_every_error_is_reported() {
+    let out = genom_check().arg(INVALID).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.matches("× expected").count(), 3, "{text}");
+    assert!(text.contains(": 3 errors, 0 warnings, 0 advice"), "{text}");
+}
+
+#[test]
+fn a_missing_file_is_exit_two_with_one_line() {
+    genom_check()
+        .arg("does/not/exist.gen")
+        .assert()
+        .code(2)
+        .stderr(predicate::str::diff(
+            "error: cannot read `does/not/exist.gen`: no such file\n",
+        ));
+}
+
+#[test]
+fn a_directory_is_exit_two() {
+    genom_check()
+        .arg("specs")
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("is a directory"));
+}
+
+#[test]
+fn a_non_utf8_file_is_exit_two() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bytes.gen");
+    std::fs::write(&path, [0x63, 0x6f, 0xff, 0xfe, 0x00, 0x80]).unwrap();
+    genom_check()
+        .arg(&path)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("not valid UTF-8"));
+}
+
+#[test]
+fn one_unreadable_file_among_good_ones_still_reports_the_others() {
+    let out = genom_check()
+        .args(["specs/pilot.gen", "nope.gen"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("specs/pilot.gen: 0 errors"));
+}
+
+#[test]
+fn a_megabyte_of_garbage_is_diagnosed_not_a_crash() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("garbage.gen");
+    let line = "@@ }{ ;; service ::: 12ab \"x\" /* */ codel <<>> \n";
+    std::fs::write(&path, line.repeat(1_000_000 / line.len())).unwrap();
+    genom_check()
+        .arg(&path)
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("syntax"));
+}
+
+#[test]
+fn usage_errors_are_exit_two() {
+    genom_check().assert().code(2);
+    genom_check()
+        .args(["--format", "xml", "specs/pilot.gen"])
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn json_output_has_the_documented_shape() {
+    let out = genom_check()
+        .args(["--format", "json", INVALID, "specs/pilot.gen"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let doc: Value = serde_json::from_slice(&out.stdout).expect("stdout is one JSON document");
+    assert_eq!(doc["version"], 1);
+    assert_eq!(doc["files"].as_array().map(Vec::len), Some(2));
+    assert_eq!(doc["files"][1]["path"], "specs/pilot.gen");
+    assert_eq!(
+        doc["files"][1]["diagnostics"].as_array().map(Vec::len),
+        Some(0)
+    );
+    let first = &doc["files"][0]["diagnostics"][0];
+    assert_eq!(first["code"], "syntax");
+    assert_eq!(first["severity"], "error");
+    assert_eq!(first["message"], "expected `;`, found `}`");
+    assert_eq!(first["file"], INVALID);
+    assert_eq!(
+        (first["line"].as_u64(), first["column"].as_u64()),
+        (Some(3), Some(28))
+    );
+    assert_eq!(first["span"]["length"], 1);
+    assert_eq!(first["labels"][0]["line"], 3);
+    assert!(first["help"].is_null() && first["trace"].is_null());
+    assert_eq!(doc["summary"]["errors"], 3);
+    assert_eq!(doc["summary"]["warnings"], 0);
+    assert_eq!(doc["summary"]["advice"], 0);
+}
+
+#[test]
+fn json_points_into_the_included_file() {
+    let out = genom_check()
+        .args([
+            "--format",
+            "json",
+            "tests/fixtures/invalid/syntax.in-included-file.gen",
+        ])
+        .output()
+        .unwrap();
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let d = &doc["files"][0]["diagnostics"][0];
+    assert_eq!(
+        doc["files"][0]["path"],
+        "tests/fixtures/invalid/syntax.in-included-file.gen"
+    );
+    assert_eq!(d["file"], "tests/fixtures/invalid/cycle/broken.idl");
+    assert_eq!(
+        (d["line"].as_u64(), d["column"].as_u64()),
+        (Some(2), Some(11))
+    );
+}
+
+#[test]
+fn quiet_prints_no_summary() {
+    genom_check()
+        .args(["-q", "specs/pilot.gen"])
+        .assert()
+        .code(0)
+        .stdout(predicate::str::is_empty());
+    genom_check()
+        .args(["--quiet", INVALID])
+        .assert()
+        .code(1)
+        .stdout(
+            predicate::str::contains("expected").and(predicate::str::contains("3 errors").not()),
+        );
+}
+
+#[test]
+fn deny_warnings_keeps_a_clean_file_at_zero() {
+    genom_check()
+        .args(["--deny", "warnings", "specs/pilot.gen"])
+        .assert()
+        .code(0);
+    genom_check()
+        .args(["--deny", "errors", "specs/pilot.gen"])
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn colour_follows_the_option_and_no_color() {
+    let ansi = predicate::str::contains("\u{1b}[");
+    genom_check()
+        .args(["--color", "always", INVALID])
+        .assert()
+        .stdout(ansi.clone());
+    genom_check()
+        .args(["--color", "never", INVALID])
+        .assert()
+        .stdout(ansi.clone().not());
+    // Not a terminal: `auto` means no colour.
+    genom_check()
+        .args(["--color", "auto", INVALID])
+        .assert()
+        .stdout(ansi.clone().not());
+    genom_check()
+        .env("NO_COLOR", "1")
+        .arg(INVALID)
+        .assert()
+        .stdout(ansi.not());
+}
+
+#[test]
+fn version_and_help() {
+    genom_check()
+        .arg("--version")
+        .assert()
+        .code(0)
+        .stdout(predicate::str::starts_with(format!(
+            "genom-check {}",
+            env!("CARGO_PKG_VERSION")
+        )));
+    genom_check()
+        .arg("--help")
+        .assert()
+        .code(0)
+        .stdout(predicate::str::contains("Examples:"));
+}
+
+#[test]
+fn explain_prints_the_code_and_rejects_unknown_ones() {
+    genom_check()
+        .args(["explain", "include-cycle"])
+        .assert()
+        .code(0)
+        .stdout(predicate::str::starts_with("# `include-cycle` (error)"));
+    genom_check()
+        .args(["explain", "dedlock"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("did you mean `deadlock`?"));
+}
+
+#[test]
+fn closed_stdout_is_not_a_crash() {
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("genom-check"))
+        .arg(INVALID)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    assert_eq!(out.status.code(), Some(1));
+}
