@@ -56,6 +56,50 @@ pub struct CheckArgs {
     /// Component description files (`.gen`).
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
+
+    /// Stop exploring after this many states (then `incomplete`).
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub max_states: usize,
+
+    /// Stop exploring after this long, e.g. `30s`, `500ms`, `2min` (then `incomplete`).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub timeout: Option<std::time::Duration>,
+
+    /// Stop exploring when state storage exceeds this size, e.g. `512M`, `4G` (then `incomplete`).
+    #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
+    pub max_memory: usize,
+
+    /// Run only the static checks (no state-space exploration).
+    #[arg(long)]
+    pub static_only: bool,
+}
+
+/// Parses `30s`, `500ms`, `2min`, `1.5s` with the language's duration units.
+fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
+    let ns = genom_parser::literal::duration_ns(text.trim())
+        .map_err(|_| format!("`{text}` is not a duration such as `30s`, `500ms` or `2min`"))?;
+    u64::try_from(ns)
+        .ok()
+        .filter(|&n| n > 0)
+        .map(std::time::Duration::from_nanos)
+        .ok_or_else(|| format!("`{text}` must be positive"))
+}
+
+/// Parses `512M`, `4G`, `100k`, or a byte count.
+fn parse_size(text: &str) -> Result<usize, String> {
+    let t = text.trim();
+    let (digits, factor) = match t.as_bytes().last() {
+        Some(b'k' | b'K') => (&t[..t.len() - 1], 1usize << 10),
+        Some(b'm' | b'M') => (&t[..t.len() - 1], 1 << 20),
+        Some(b'g' | b'G') => (&t[..t.len() - 1], 1 << 30),
+        _ => (t, 1),
+    };
+    digits
+        .parse::<usize>()
+        .ok()
+        .and_then(|n| n.checked_mul(factor))
+        .filter(|&n| n > 0)
+        .ok_or_else(|| format!("`{text}` is not a size such as `512M` or `4G`"))
 }
 
 /// Arguments of `explain`.

@@ -49,6 +49,17 @@ fn body(code: Code) -> &'static str {
         Code::PrototypeMismatch => prototype_mismatch::EXPLANATION,
         Code::UpdateNotArgument => update_rules::EXPLANATION_NOT_ARGUMENT,
         Code::ConstUpdate => update_rules::EXPLANATION_CONST,
+        Code::UnreachableCodel => unreachable_codel::EXPLANATION,
+        Code::NoTermination => no_termination::EXPLANATION,
+        Code::AutoTerminates => auto_terminates::EXPLANATION,
+        Code::UnusedReport => unused_report::EXPLANATION,
+        Code::MissingOnInter => missing_on_inter::EXPLANATION,
+        Code::PrivilegeEscalation => privilege_escalation::EXPLANATION,
+        Code::Deadlock => deadlock::EXPLANATION,
+        Code::Starvation => starvation::EXPLANATION,
+        Code::DeadService => dead_service::EXPLANATION,
+        Code::UnboundedInterrupt => unbounded_interrupt::EXPLANATION,
+        Code::Incomplete => incomplete::EXPLANATION,
         _ => "",
     }
 }

@@ -5,10 +5,13 @@
 //! everything, sorted.
 
 pub mod checks;
+pub mod engine;
 pub mod explain;
+pub mod generate;
 mod pipeline;
 pub mod resolve;
 #[cfg(test)]
 pub mod testing;
+pub mod zones;
 
 pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};

@@ -2,22 +2,76 @@
 //! gathers their diagnostics and statistics.
 
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use genom_model::component::Component;
-use genom_model::{Diagnostic, FileId, SourceMap, Span, Statistics, sort_diagnostics};
+use genom_model::{Diagnostic, FileId, Severity, SourceMap, Span, Statistics, sort_diagnostics};
 use genom_parser::{Ast, LoadError, Loader};
 
-/// Options of a check, built with consuming setters.
-#[derive(Debug, Clone, Default)]
+use crate::engine::{Limits, analyse};
+
+/// Options of a check, built with consuming setters (as stateright's
+/// checker builder).
+#[derive(Debug, Clone)]
 pub struct CheckOptions {
-    _private: (),
+    max_states: usize,
+    timeout: Option<Duration>,
+    max_memory: usize,
+    behaviour: bool,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions {
+            max_states: 10_000_000,
+            timeout: None,
+            max_memory: 8 << 30,
+            behaviour: true,
+        }
+    }
 }
 
 impl CheckOptions {
-    /// The defaults: every check, no limits beyond the built-in ones.
+    /// The defaults: every check, at most ten million states, 8 GiB of
+    /// state storage, no time limit.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Stops exploring after this many states (then `incomplete`).
+    #[must_use]
+    pub fn max_states(mut self, n: usize) -> Self {
+        self.max_states = n.max(1);
+        self
+    }
+
+    /// Stops exploring after this long (then `incomplete`).
+    #[must_use]
+    pub fn timeout(mut self, d: Option<Duration>) -> Self {
+        self.timeout = d;
+        self
+    }
+
+    /// Stops exploring when state storage exceeds this many bytes.
+    #[must_use]
+    pub fn max_memory(mut self, bytes: usize) -> Self {
+        self.max_memory = bytes;
+        self
+    }
+
+    /// Runs the behavioural engine (default) or only the static checks.
+    #[must_use]
+    pub fn behaviour(mut self, on: bool) -> Self {
+        self.behaviour = on;
+        self
+    }
+
+    fn limits(&self, started: Instant) -> Limits {
+        Limits {
+            max_states: self.max_states,
+            deadline: self.timeout.map(|t| started + t),
+            max_bytes: self.max_memory,
+        }
     }
 }
 
@@ -55,7 +109,6 @@ pub fn check_source(
     options: &CheckOptions,
 ) -> CheckResult {
     let started = Instant::now();
-    let _ = options;
     let parsed = genom_parser::parse_source(path, text, loader);
     let mut diagnostics = parsed.diagnostics.clone();
     let mut component = None;
@@ -69,13 +122,28 @@ pub fn check_source(
         diagnostics.extend(crate::checks::run(&resolved.component));
         component = resolved.has_component.then_some(resolved.component);
     }
+    let clean = !diagnostics.iter().any(|d| d.severity == Severity::Error);
+    let mut statistics = None;
+    if let (Some(c), true, true) = (&component, clean, options.behaviour) {
+        let analysis = analyse(c, options.limits(started));
+        diagnostics.extend(crate::checks::behaviour(c, &analysis));
+        statistics = Some(Statistics {
+            states: analysis.states,
+            transitions: analysis.transitions,
+            time_ms: 0.0,
+            complete: analysis.stopped.is_none(),
+            bytes_per_state: Some(analysis.bytes_per_state),
+        });
+    }
     sort_diagnostics(&mut diagnostics);
-    let _elapsed = started.elapsed();
+    if let Some(s) = &mut statistics {
+        s.time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    }
     CheckResult {
         sources: parsed.sources,
         ast: parsed.ast,
         diagnostics,
         component,
-        statistics: None,
+        statistics,
     }
 }

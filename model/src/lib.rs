@@ -3,9 +3,11 @@
 //! reports with miette, and the versioned JSON document); the resolved
 //! component model that every verification stage and export reads.
 
+pub mod behaviour;
 pub mod component;
 pub mod diagnostic;
 pub mod kinds;
+pub mod petri;
 pub mod render;
 pub mod span;
 pub mod stats;

@@ -14,7 +14,11 @@ use crate::terminal;
 
 /// Checks every file, prints, and returns the exit status.
 pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
-    let options = CheckOptions::new();
+    let options = CheckOptions::new()
+        .max_states(args.max_states)
+        .timeout(args.timeout)
+        .max_memory(args.max_memory)
+        .behaviour(!args.static_only);
     let mut io_failed = false;
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     for path in &args.files {

@@ -1,25 +1,57 @@
-//! The static checks, one file per check with its explanation, its
-//! diagnostic constructors and its pass/fail tests. Resolution checks are
-//! reported by the resolver through these constructors; model checks
-//! (`check` functions) run on the resolved component.
+//! The checks, one file per check with its explanation, its diagnostic
+//! constructors and its pass/fail tests. Resolution checks are reported by
+//! the resolver through these constructors; static model checks
+//! ([`run`]) run on the resolved component; behavioural verdicts
+//! ([`behaviour`]) read the explorer's [`Analysis`].
 
+pub mod auto_terminates;
 pub mod codel_transitions;
+pub mod dead_service;
+pub mod deadlock;
 pub mod duplicate_definition;
+pub mod incomplete;
 pub mod invalid_attribute;
 pub mod missing_component;
+pub mod missing_on_inter;
+pub mod no_termination;
+pub mod privilege_escalation;
 pub mod prototype_mismatch;
 pub mod service_structure;
+pub mod starvation;
 pub mod type_mismatch;
+pub mod unbounded_interrupt;
 pub mod unknown_name;
+pub mod unreachable_codel;
+pub mod unused_report;
 pub mod update_rules;
 
 use genom_model::Diagnostic;
 use genom_model::component::Component;
+
+use crate::engine::Analysis;
 
 /// Runs every check on the resolved model.
 pub fn run(component: &Component) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     out.extend(prototype_mismatch::check(component));
     out.extend(update_rules::check(component));
+    out.extend(unreachable_codel::check(component));
+    out.extend(no_termination::check(component));
+    out.extend(auto_terminates::check(component));
+    out.extend(unused_report::check(component));
+    out.extend(missing_on_inter::check(component));
+    out.extend(privilege_escalation::check(component));
+    out
+}
+
+/// The behavioural verdicts of an exploration.
+pub fn behaviour(component: &Component, analysis: &Analysis) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    out.extend(deadlock::check(component, analysis));
+    out.extend(starvation::check(component, analysis));
+    out.extend(dead_service::check(component, analysis));
+    out.extend(unbounded_interrupt::check(component, analysis));
+    out.extend(unreachable_codel::dynamic(component, analysis));
+    out.extend(incomplete::check(component, analysis));
     out
 }

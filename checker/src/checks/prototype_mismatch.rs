@@ -119,3 +119,157 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use genom_model::{Code, Span};
+
+    use crate::CheckResult;
+    use crate::testing::{self, HEADER};
+
+    /// Every diagnostic of `code` in `src`, as
+    /// ``line:col `primary text` + line:col `label text`...: message``.
+    fn found(src: &str, code: Code) -> Vec<String> {
+        let r = testing::check(src);
+        r.diagnostics
+            .iter()
+            .filter(|d| d.code == code)
+            .map(|d| {
+                let spans: Vec<String> = d.labels.iter().map(|l| at(&r, l.span)).collect();
+                format!("{}: {}", spans.join(" + "), d.message)
+            })
+            .collect()
+    }
+
+    fn at(r: &CheckResult, span: Span) -> String {
+        let (line, col) = r
+            .sources
+            .locate(span)
+            .and_then(|l| Some(r.sources.file(l.file)?.line_col(l.offset)))
+            .unwrap_or_default();
+        format!("{line}:{col} `{}`", r.sources.slice(span))
+    }
+
+    /// Data on lines 3-5, then a service whose start codel (line 8) and exec
+    /// codel `b` (line 9) call `first` and `second`.
+    fn two_uses(first: &str, second: &str) -> String {
+        format!(
+            "{HEADER}typedef double meters;\nids d {{ double x; meters m; long n; }}\nexport e {{ double pos; }}\n\
+             service s {{\n  thread: main;\n  start codel {{ exec: {first}; next: b; }}\n  exec codel b {{ exec: {second}; }}\n}}\n"
+        )
+    }
+
+    fn labels(src: &str) -> Vec<String> {
+        let r = testing::check(src);
+        r.diagnostics
+            .iter()
+            .filter(|d| d.code == Code::PrototypeMismatch)
+            .flat_map(|d| d.labels.iter().map(|l| l.message.clone()))
+            .collect()
+    }
+
+    fn same_prototype(first: &str, second: &str) {
+        let src = two_uses(first, second);
+        assert_eq!(
+            testing::count(&src, Code::PrototypeMismatch),
+            0,
+            "{}",
+            testing::render(&src)
+        );
+    }
+
+    #[test]
+    fn a_different_arity() {
+        let src = two_uses("step(d.x)", "step(d.x, d.n)");
+        assert_eq!(
+            found(&src, Code::PrototypeMismatch),
+            ["9:24 `step` + 8:23 `step`: codel function `step` is used with different prototypes"]
+        );
+        assert_eq!(
+            labels(&src),
+            ["`step(double, long)` here", "`step(double)` here"]
+        );
+        same_prototype("step(d.x, d.n)", "step(d.x, d.n)");
+    }
+
+    #[test]
+    fn a_different_argument_type() {
+        let src = two_uses("step(d.x)", "step(d.n)");
+        assert_eq!(labels(&src), ["`step(long)` here", "`step(double)` here"]);
+        same_prototype("step(d.x)", "step(e.pos)");
+    }
+
+    #[test]
+    fn a_different_constness() {
+        let src = two_uses("step(const d.x)", "step(d.x)");
+        assert_eq!(
+            labels(&src),
+            ["`step(double)` here", "`step(const double)` here"]
+        );
+        same_prototype("step(const d.x)", "step(const e.pos)");
+    }
+
+    #[test]
+    fn aliases_of_one_type_are_the_same_prototype() {
+        same_prototype("step(d.x)", "step(d.m)");
+    }
+
+    #[test]
+    fn parameters_count_with_their_types() {
+        let src = format!(
+            "{HEADER}ids d {{ double x; }}\nservice s {{\n  thread: main;\n  input: double speed, long count;\n  \
+             start codel {{ exec: step(speed); next: b; }}\n  exec codel b {{ exec: step(d.x); next: c; }}\n  exec codel c {{ exec: step(count); }}\n}}\n"
+        );
+        assert_eq!(
+            found(&src, Code::PrototypeMismatch),
+            [
+                "9:24 `step` + 7:23 `step` + 8:24 `step`: codel function `step` is used with different prototypes"
+            ]
+        );
+    }
+
+    #[test]
+    fn three_uses_label_all_three_and_report_once() {
+        let src = format!(
+            "{HEADER}ids d {{ double x; long n; }}\n\
+             service s {{\n  thread: main;\n  start codel {{ exec: step(d.x); next: b; }}\n  exec codel b {{ exec: step(d.n); next: c; }}\n  exec codel c {{ exec: step(d.x, d.n); }}\n}}\n\
+             service u {{\n  control codel {{ exec: step(); }}\n}}\n"
+        );
+        assert_eq!(
+            found(&src, Code::PrototypeMismatch),
+            [
+                "7:24 `step` + 6:23 `step` + 8:24 `step` + 11:25 `step`: codel function `step` is used with different prototypes"
+            ]
+        );
+        assert_eq!(
+            labels(&src),
+            [
+                "`step(long)` here",
+                "`step(double)` here",
+                "also used here",
+                "also used here"
+            ]
+        );
+    }
+
+    #[test]
+    fn different_functions_are_independent() {
+        same_prototype("start(d.x)", "step(d.n)");
+    }
+
+    #[test]
+    fn an_unresolved_argument_matches_anything() {
+        let src = two_uses("step(d.y)", "step(d.x)");
+        assert_eq!(testing::count(&src, Code::PrototypeMismatch), 0);
+        assert_eq!(testing::count(&src, Code::UnknownData), 1);
+    }
+
+    #[test]
+    fn snapshot() {
+        let src = format!(
+            "{HEADER}ids d {{ double x; long n; }}\n\
+             service s {{\n  thread: main;\n  start codel {{ exec: step(d.x); next: b; }}\n  exec codel b {{ exec: step(const d.x); next: c; }}\n  exec codel c {{ exec: step(d.n); }}\n}}\n"
+        );
+        insta::assert_snapshot!(testing::render(&src));
+    }
+}

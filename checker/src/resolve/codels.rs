@@ -175,7 +175,7 @@ impl Resolver {
         let service = self.c.codels[cid].service;
         let Some(found) = self.c.codel_named(service, &target.name) else {
             let candidates = self.codel_names(service, |k| k == CodelKind::Inter);
-            self.report(unknown_name::unknown_codel(
+            self.report(unknown_name::unknown_inter_codel(
                 &target.name,
                 target.span,
                 candidates.iter().map(String::as_str),

@@ -4,9 +4,10 @@
 
 use std::collections::BTreeMap;
 
+use genom_model::Diagnostic;
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{
-    DataPath, DataRoot, Field, ServiceId, Step, Structure, Ty, TypeDef, TypeKind,
+    DataPath, DataRoot, Field, Param, ServiceId, Step, Structure, Ty, TypeDef, TypeKind,
 };
 use genom_model::kinds::DataKind;
 use genom_parser::Ast;
@@ -43,10 +44,10 @@ impl Resolver {
         for m in &b.members {
             if let Some(prev) = fields.iter().find(|f| f.name == m.decl.name.name) {
                 let first = prev.span;
-                let what = format!("member of `{}`", b.name.name);
+                let name = format!("{}.{}", b.name.name, m.decl.name.name);
                 self.report(duplicate_definition::duplicate(
-                    &what,
-                    &m.decl.name.name,
+                    "ids member",
+                    &name,
                     m.decl.name.span,
                     first,
                 ));
@@ -152,21 +153,7 @@ impl Resolver {
             return Some((found.0, found.1, &r.path));
         }
         let Some(block) = self.names.blocks.get(name) else {
-            let mut candidates: Vec<String> = self.names.blocks.keys().cloned().collect();
-            if let Some(s) = service.and_then(|s| self.c.services.get(s)) {
-                candidates.extend(
-                    s.inputs
-                        .iter()
-                        .chain(&s.outputs)
-                        .map(|p| p.name.name.clone()),
-                );
-            }
-            let d = unknown_name::unknown_data(
-                "data",
-                name,
-                r.root.span,
-                candidates.iter().map(String::as_str),
-            );
+            let d = self.unknown_root(&r.root, service);
             self.report(d);
             return None;
         };
@@ -177,24 +164,20 @@ impl Resolver {
                 &r.path,
             ));
         }
+        let kind = block.kind.keyword();
         let Some(PathElem::Field(item)) = r.path.first() else {
-            let items: Vec<String> = block.items.keys().map(|i| format!("{name}.{i}")).collect();
-            let what = format!("{} block item", block.kind.keyword());
-            let candidates = items.iter().map(String::as_str);
-            self.report(unknown_name::unknown_data(
-                &what,
-                name,
-                r.root.span,
-                candidates,
-            ));
+            let items = block.items.keys().map(String::as_str);
+            let d = unknown_name::block_without_item(name, kind, r.root.span, items);
+            self.report(d);
             return None;
         };
         let Some(&id) = block.items.get(&item.name) else {
-            let items: Vec<&str> = block.items.keys().map(String::as_str).collect();
-            let what = format!("item of `{name}`");
-            self.report(unknown_name::unknown_data(
-                &what, &item.name, item.span, items,
-            ));
+            let items: Vec<String> = block.items.keys().map(|i| format!("{name}.{i}")).collect();
+            let what = format!("{kind} item");
+            let written = format!("{name}.{}", item.name);
+            let candidates = items.iter().map(String::as_str);
+            let d = unknown_name::unknown_data(&what, &written, item.span, candidates);
+            self.report(d);
             return None;
         };
         Some((
@@ -204,9 +187,41 @@ impl Resolver {
         ))
     }
 
+    /// The diagnostic of a data root that names nothing: a parameter of
+    /// another service, or a typo among blocks and own parameters.
+    fn unknown_root(&self, root: &ast::Ident, service: Option<ServiceId>) -> Diagnostic {
+        let typed = |p: &&Param| p.data.is_none();
+        let elsewhere = service.and_then(|own| {
+            let others = self.c.services.iter().filter(|&(id, _)| id != own);
+            others.map(|(_, s)| s).find_map(|s| {
+                let mut params = s.inputs.iter().chain(&s.outputs).filter(typed);
+                params.find(|p| p.name.name == root.name).map(|p| (s, p))
+            })
+        });
+        if let Some((s, p)) = elsewhere {
+            return unknown_name::other_service_param(
+                &root.name,
+                root.span,
+                &s.name.name,
+                p.name.span,
+            );
+        }
+        let mut candidates: Vec<String> = self.names.blocks.keys().cloned().collect();
+        if let Some(s) = service.and_then(|s| self.c.services.get(s)) {
+            let params = s.inputs.iter().chain(&s.outputs).filter(typed);
+            candidates.extend(params.map(|p| p.name.name.clone()));
+        }
+        unknown_name::unknown_data(
+            "data",
+            &root.name,
+            root.span,
+            candidates.iter().map(String::as_str),
+        )
+    }
+
     fn param_root(&self, service: ServiceId, name: &str) -> Option<(DataRoot, Ty)> {
         let s = self.c.services.get(service)?;
-        let find = |list: &[genom_model::component::Param], output: bool| {
+        let find = |list: &[Param], output: bool| {
             list.iter()
                 .position(|p| p.name.name == name && p.data.is_none())
                 .map(|index| {

@@ -194,13 +194,9 @@ impl Resolver {
             .is_some_and(|s| self.c.structures[s].kind == DataKind::Ids);
         if !is_ids {
             let ids: Vec<String> = self.ids_blocks();
-            let what = "ids member (parameters refer into an `ids` block)";
-            self.report(unknown_name::unknown_data(
-                what,
-                &r.to_string(),
-                r.span,
-                ids.iter().map(String::as_str),
-            ));
+            let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
+            let d = unknown_name::not_ids_member(&r.to_string(), r.span, &ids);
+            self.report(d);
             return None;
         }
         Some(path)

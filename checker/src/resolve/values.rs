@@ -23,6 +23,10 @@ impl Resolver {
         }
         match v {
             ast::Value::Fields(fields, span) => self.struct_value(fields, *span, ty, scope),
+            // `{}` initialises a struct with no field, as well as an empty list.
+            ast::Value::List(items, _) if items.is_empty() && self.c.types.fields(ty).is_some() => {
+                Some(Value::Struct(Vec::new()))
+            }
             ast::Value::List(items, span) => self.list_value(items, *span, ty, scope),
             ast::Value::Name(name) => self.name_value(name, ty, scope),
             ast::Value::Number(n) => {
@@ -108,7 +112,8 @@ impl Resolver {
         };
         if let Some(max) = bound.filter(|&m| items.len() as u64 > m) {
             let shown = self.show(ty);
-            self.report(type_mismatch::too_long(span, &shown, items.len(), max));
+            let d = type_mismatch::too_long(span, &shown, items.len(), max, "elements");
+            self.report(d);
         }
         let values: Vec<Value> = items
             .iter()
@@ -122,14 +127,11 @@ impl Resolver {
         if let Some((enum_id, values)) = self.c.types.enumerators(ty) {
             let values: Vec<String> = values.iter().map(|(v, _)| v.clone()).collect();
             let found = self.scopes.lookup(scope, name).map(|(_, s)| s);
-            let ok = match found {
-                Some(Symbol::Enumerator(id)) => id == enum_id,
-                _ => {
-                    !name.absolute
-                        && name.parts.len() == 1
-                        && values.iter().any(|v| v == name.last())
-                }
-            };
+            // An unqualified name is looked up in the enum it initialises
+            // first, even when another enum in scope has a value of that name.
+            let unqualified = !name.absolute && name.parts.len() == 1;
+            let ok = (unqualified && values.iter().any(|v| v == name.last()))
+                || found == Some(Symbol::Enumerator(enum_id));
             if ok {
                 return Some(Value::Enum(name.last().to_owned()));
             }
@@ -175,12 +177,9 @@ impl Resolver {
             (Value::Str(s), Ty::String { bound }) => {
                 if let Some(max) = bound.filter(|&m| s.chars().count() as u64 > m) {
                     let shown = self.show(ty);
-                    self.report(type_mismatch::too_long(
-                        span,
-                        &shown,
-                        s.chars().count(),
-                        max,
-                    ));
+                    let length = s.chars().count();
+                    let d = type_mismatch::too_long(span, &shown, length, max, "characters");
+                    self.report(d);
                 }
                 Some(v)
             }

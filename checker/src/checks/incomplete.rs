@@ -1,0 +1,59 @@
+//! `incomplete`: a resource limit (states, time, memory) stopped
+//! verification before it finished; the diagnostic names the properties
+//! left unproven. Verdicts found before the limit (with their traces) stand;
+//! nothing is claimed about what was not explored.
+
+use genom_model::component::Component;
+use genom_model::{Code, Diagnostic};
+
+use crate::engine::{Analysis, Stop};
+
+/// `genom-check explain incomplete`.
+pub const EXPLANATION: &str = r#"A limit stopped verification before it explored every reachable state:
+`--max-states`, `--timeout` or `--max-memory`. The message says which limit
+and which properties are left unproven.
+
+Why it matters: a verifier must never say "verified" when it did not finish.
+Violations found before the limit are real (they come with traces), but the
+absence of a violation is not proven, so the exit status is 1.
+
+Raise the limit, or simplify the component: services that share no `stops`,
+`delays` or `forbids` are verified separately, so cutting such links between
+groups of services reduces the state space."#;
+
+/// Verification stopped by `stop`; `what` names the unproven properties.
+pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
+    let limit = match stop {
+        Stop::States => "the state limit (--max-states) was reached",
+        Stop::Time => "the time limit (--timeout) was reached",
+        Stop::Memory => "the memory limit (--max-memory) was reached",
+    };
+    Diagnostic::new(
+        Code::Incomplete,
+        format!("verification is incomplete: {limit}"),
+        c.name.span,
+        "not fully verified",
+    )
+    .with_help(format!("left unproven: {what}; raise the limit to finish"))
+}
+
+/// The `incomplete` diagnostic, if exploration stopped early.
+pub fn check(c: &Component, analysis: &Analysis) -> Vec<Diagnostic> {
+    let Some(stop) = analysis.stopped else {
+        return Vec::new();
+    };
+    let names: Vec<String> = analysis
+        .unproven
+        .iter()
+        .map(|&s| format!("`{}`", c.services[s].name.name))
+        .collect();
+    let scope = if names.is_empty() {
+        "the component".to_owned()
+    } else {
+        format!("services {}", names.join(", "))
+    };
+    let what = format!(
+        "deadlock and starvation freedom, unbounded interrupts, dead services and codel reachability for {scope}"
+    );
+    vec![incomplete(c, stop, &what)]
+}

@@ -1,0 +1,819 @@
+//! The untimed execution semantics of LANGUAGE.md section 3 over a set of
+//! *member* services (the whole component, or one independent cluster of
+//! it), as a [`Model`] for the explorer.
+//!
+//! A configuration holds, per member, the position of its main instance
+//! (see [`genom_model::behaviour`]) and its pending instance, if any, with
+//! the set of `stops` targets whose interrupted instance it still waits for
+//! (step 7b). Requests are handled atomically (steps 1–7); pending
+//! instances start as soon as they can (urgent), in service order; codels
+//! run in two steps (begin, finish) so that an interrupt can arrive while a
+//! codel runs. One function, [`System::apply`], defines every transition;
+//! with an event sink it also writes the trace.
+
+use genom_model::behaviour::{Behaviour, Effect, Ending, IDLE, PosId, Position, ServiceMachine};
+use genom_model::component::{CodelId, Component, Outcome, ServiceId, StructureId, ThreadId};
+use genom_model::kinds::ServiceKind;
+use genom_model::trace::{Event, TraceStep};
+
+use super::explore::Model;
+
+/// A configuration of the member services.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Config {
+    /// Whether the `init` service has completed successfully (always true
+    /// without an init service).
+    pub init_done: bool,
+    /// Position of each member's main instance.
+    pub main: Vec<PosId>,
+    /// Each member's pending instance: the bits of the `stops` targets it
+    /// still waits for.
+    pub pending: Vec<Option<u64>>,
+}
+
+/// A transition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Action {
+    /// A client requests a service and the request is accepted.
+    Request(ServiceId),
+    /// The service's thread starts its next codel.
+    Begin(ServiceId),
+    /// The running codel finishes, the `k`-th way.
+    Finish(ServiceId, u8),
+    /// The max-time watchdog fires on the pending (`true`) or main
+    /// instance.
+    Watchdog(ServiceId, bool),
+}
+
+impl Action {
+    /// The service the action is about.
+    pub fn service(self) -> ServiceId {
+        match self {
+            Action::Request(s)
+            | Action::Begin(s)
+            | Action::Finish(s, _)
+            | Action::Watchdog(s, _) => s,
+        }
+    }
+}
+
+/// Static facts about one member.
+#[derive(Debug, Clone)]
+struct Member {
+    service: ServiceId,
+    /// Member indices of its `stops` targets (bit `k` of a wait mask is
+    /// `stops[k]`).
+    stops: Vec<usize>,
+    /// Members `T != S` whose instances delay it.
+    delayers: Vec<usize>,
+    /// Members `T != S` whose instances make its requests rejected.
+    forbidders: Vec<usize>,
+    /// It lists itself in `stops`.
+    self_stop: bool,
+    /// Structures of its control codel, with write access.
+    control: Vec<(StructureId, bool)>,
+    /// Bits for its position, and whether it has a pending slot.
+    pos_bits: u32,
+    can_pend: bool,
+}
+
+/// The member services and their rules.
+#[derive(Debug)]
+pub struct System<'a> {
+    c: &'a Component,
+    b: &'a Behaviour,
+    members: Vec<Member>,
+    /// Member index of each service of the component.
+    index: Vec<Option<usize>>,
+    /// The component's init service.
+    init: Option<ServiceId>,
+    /// Stop expanding once init has completed (the pre-init phase).
+    pre_init: bool,
+    /// Structures used by each codel, with write access.
+    codel_structures: Vec<Vec<(StructureId, bool)>>,
+    /// Words per encoded configuration.
+    width: usize,
+}
+
+impl<'a> System<'a> {
+    /// The system of `members` (sorted service ids). With `pre_init`,
+    /// states where init has completed are not expanded.
+    pub fn new(c: &'a Component, b: &'a Behaviour, members: &[ServiceId], pre_init: bool) -> Self {
+        let mut index = vec![None; c.services.len()];
+        for (i, &s) in members.iter().enumerate() {
+            index[s.0 as usize] = Some(i);
+        }
+        let members: Vec<Member> = members.iter().map(|&s| member(c, b, &index, s)).collect();
+        let codel_structures = c
+            .codels
+            .values()
+            .map(genom_model::component::Codel::structures)
+            .collect();
+        let width = width(&members);
+        System {
+            c,
+            b,
+            members,
+            index,
+            init: c.init_service(),
+            pre_init,
+            codel_structures,
+            width,
+        }
+    }
+
+    /// The component.
+    pub fn component(&self) -> &'a Component {
+        self.c
+    }
+
+    /// The member services.
+    pub fn services(&self) -> impl Iterator<Item = ServiceId> + '_ {
+        self.members.iter().map(|m| m.service)
+    }
+
+    /// The member index of a service.
+    pub fn member_index(&self, s: ServiceId) -> Option<usize> {
+        self.index.get(s.0 as usize).copied().flatten()
+    }
+
+    fn machine(&self, i: usize) -> &'a ServiceMachine {
+        self.b.machine(self.members[i].service)
+    }
+
+    /// The position of member `i`.
+    pub fn position(&self, cfg: &Config, i: usize) -> Position {
+        self.machine(i).positions[usize::from(cfg.main[i])]
+    }
+
+    fn has_instance(cfg: &Config, i: usize) -> bool {
+        cfg.main[i] != IDLE || cfg.pending[i].is_some()
+    }
+
+    /// The configuration where nothing has happened yet: autos are
+    /// acknowledged when there is no init service (or `init_done`).
+    pub fn initial(&self, init_done: bool, events: &mut Option<&mut Vec<TraceStep>>) -> Config {
+        let n = self.members.len();
+        let mut cfg = Config {
+            init_done: init_done || self.init.is_none(),
+            main: vec![IDLE; n],
+            pending: vec![None; n],
+        };
+        if cfg.init_done {
+            self.start_autos(&mut cfg, events);
+            self.closure(&mut cfg, events);
+        }
+        cfg
+    }
+
+    /// Steps 1–3: whether a request for member `i` gets to its control
+    /// codel, and the control codel can take its locks now.
+    pub fn request_enabled(&self, cfg: &Config, i: usize) -> bool {
+        let m = &self.members[i];
+        if !cfg.init_done && self.init != Some(m.service) {
+            return false;
+        }
+        if m.forbidders.iter().any(|&t| Self::has_instance(cfg, t)) {
+            return false;
+        }
+        if Self::has_instance(cfg, i) && !m.self_stop {
+            return false;
+        }
+        !self.locked(cfg, &m.control, None)
+    }
+
+    /// Whether some running codel of another thread (or of `thread`)
+    /// conflicts with `uses`.
+    fn locked(
+        &self,
+        cfg: &Config,
+        uses: &[(StructureId, bool)],
+        thread: Option<(usize, ThreadId)>,
+    ) -> bool {
+        (0..self.members.len()).any(|j| {
+            let p = self.position(cfg, j);
+            let Some(codel) = p.codel().filter(|_| p.is_running()) else {
+                return false;
+            };
+            if let Some((me, t)) = thread {
+                if j == me {
+                    return false;
+                }
+                if self.machine(j).thread == Some(t) {
+                    return true;
+                }
+            }
+            conflict(uses, &self.codel_structures[codel.0 as usize])
+        })
+    }
+
+    fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
+        let thread = self.machine(i).thread.map(|t| (i, t));
+        let uses = &self.codel_structures[codel.0 as usize];
+        !self.locked(cfg, uses, thread)
+    }
+
+    /// Applies an action; `None` if it is not enabled. Trace events go to
+    /// `events` when given.
+    pub fn apply(
+        &self,
+        cfg: &Config,
+        action: Action,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<Config> {
+        let i = self.member_index(action.service())?;
+        let mut next = cfg.clone();
+        match action {
+            Action::Request(_) => self.request(&mut next, i, events)?,
+            Action::Begin(_) => self.begin(&mut next, i, events)?,
+            Action::Finish(_, k) => self.finish(&mut next, i, usize::from(k), events)?,
+            Action::Watchdog(_, pending) => self.watchdog(&mut next, i, pending, events)?,
+        }
+        self.closure(&mut next, events);
+        Some(next)
+    }
+
+    fn request(
+        &self,
+        cfg: &mut Config,
+        i: usize,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<()> {
+        if !self.request_enabled(cfg, i) {
+            return None;
+        }
+        let s = self.members[i].service;
+        self.emit(
+            ev,
+            Event::Request,
+            s,
+            None,
+            None,
+            format!("a client requests `{}`", self.name(s)),
+        );
+        if let Some(control) = self.c.services[s].control {
+            let f = self.function(control);
+            self.emit(
+                ev,
+                Event::Accept,
+                s,
+                Some(control),
+                None,
+                format!("control codel `{f}` accepts the request"),
+            );
+        }
+        let mut mask = 0u64;
+        for (bit, &t) in self.members[i].stops.clone().iter().enumerate() {
+            self.interrupt_pending(cfg, t, false, ev);
+            self.interrupt_main(cfg, t, false, ev);
+            if cfg.main[t] != IDLE {
+                mask |= 1 << bit;
+            }
+        }
+        cfg.pending[i] = Some(mask);
+        self.emit(
+            ev,
+            Event::Acknowledge,
+            s,
+            None,
+            None,
+            format!("`{}` is acknowledged (pending)", self.name(s)),
+        );
+        Some(())
+    }
+
+    fn interrupt_pending(
+        &self,
+        cfg: &mut Config,
+        t: usize,
+        watchdog: bool,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) {
+        if cfg.pending[t].take().is_none() {
+            return;
+        }
+        let s = self.members[t].service;
+        let (event, reply) = if watchdog {
+            (Event::Watchdog, "TIMEOUT")
+        } else {
+            (Event::Interrupt, "INTERRUPTED")
+        };
+        self.emit(
+            ev,
+            event,
+            s,
+            None,
+            None,
+            format!("the pending instance of `{}` is interrupted", self.name(s)),
+        );
+        self.emit_reply(ev, s, reply);
+    }
+
+    /// Interrupts the main instance of member `t` (steps 5, watchdog).
+    fn interrupt_main(
+        &self,
+        cfg: &mut Config,
+        t: usize,
+        watchdog: bool,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) {
+        let Some(effect) = self.machine(t).interrupt[usize::from(cfg.main[t])] else {
+            return;
+        };
+        let s = self.members[t].service;
+        let at = self.position(cfg, t).codel();
+        let who = if watchdog {
+            "the max-time watchdog interrupts"
+        } else {
+            "interrupt"
+        };
+        let event = if watchdog {
+            Event::Watchdog
+        } else {
+            Event::Interrupt
+        };
+        let place = at
+            .map(|c| format!(" at `{}`", self.c.codels[c].name.name))
+            .unwrap_or_default();
+        self.emit(
+            ev,
+            event,
+            s,
+            at,
+            None,
+            format!("{who} `{}`{place}", self.name(s)),
+        );
+        match effect {
+            Effect::Goto(q) => cfg.main[t] = q,
+            Effect::End(ending) => self.end(cfg, t, ending, watchdog, ev),
+        }
+    }
+
+    fn begin(
+        &self,
+        cfg: &mut Config,
+        i: usize,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<()> {
+        let m = self.machine(i);
+        let q = m.begin[usize::from(cfg.main[i])]?;
+        let codel = m.positions[usize::from(q)].codel()?;
+        if !self.can_begin(cfg, i, codel) {
+            return None;
+        }
+        cfg.main[i] = q;
+        let s = self.members[i].service;
+        let thread = m.thread.map_or_else(
+            || "control".to_owned(),
+            |t| self.c.threads[t].name.name.clone(),
+        );
+        let text = format!("thread `{thread}` runs `{}`", self.c.codel_label(codel));
+        self.emit(ev, Event::CodelStart, s, Some(codel), None, text);
+        Some(())
+    }
+
+    fn finish(
+        &self,
+        cfg: &mut Config,
+        i: usize,
+        k: usize,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<()> {
+        let m = self.machine(i);
+        let p = usize::from(cfg.main[i]);
+        let f = *m.finish[p].get(k)?;
+        let codel = m.positions[p].codel()?;
+        let s = self.members[i].service;
+        let outcome = f.outcome.map(|o| self.outcome_name(s, o));
+        let text = match &outcome {
+            Some(o) => format!("`{}` ends with `{o}`", self.c.codel_label(codel)),
+            None => format!(
+                "`{}` ends; the service was interrupted",
+                self.c.codel_label(codel)
+            ),
+        };
+        self.emit(ev, Event::CodelEnd, s, Some(codel), outcome, text);
+        match f.effect {
+            Effect::Goto(q) => cfg.main[i] = q,
+            Effect::End(ending) => self.end(cfg, i, ending, false, ev),
+        }
+        Some(())
+    }
+
+    fn watchdog(
+        &self,
+        cfg: &mut Config,
+        i: usize,
+        pending: bool,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<()> {
+        if !self.machine(i).watchdog {
+            return None;
+        }
+        if pending {
+            cfg.pending[i]?;
+            self.interrupt_pending(cfg, i, true, ev);
+        } else {
+            self.machine(i).interrupt[usize::from(cfg.main[i])]?;
+            self.interrupt_main(cfg, i, true, ev);
+        }
+        Some(())
+    }
+
+    /// The main instance of member `i` ends: reply, release waiters, and
+    /// complete initialisation.
+    fn end(
+        &self,
+        cfg: &mut Config,
+        i: usize,
+        ending: Ending,
+        timeout: bool,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+    ) {
+        cfg.main[i] = IDLE;
+        let s = self.members[i].service;
+        let reply = match ending {
+            Ending::Success => "end".to_owned(),
+            Ending::Report(r) => self.c.services[s]
+                .reports
+                .get(r)
+                .map_or_else(String::new, |r| r.name.clone()),
+            Ending::Interrupted if timeout => "TIMEOUT".to_owned(),
+            Ending::Interrupted => "INTERRUPTED".to_owned(),
+        };
+        self.emit_reply(ev, s, &reply);
+        for (k, m) in self.members.iter().enumerate() {
+            if let (Some(mask), Some(bit)) = (cfg.pending[k], m.stops.iter().position(|&t| t == i))
+            {
+                cfg.pending[k] = Some(mask & !(1 << bit));
+            }
+        }
+        if ending == Ending::Success && !cfg.init_done && self.init == Some(s) {
+            cfg.init_done = true;
+            let text = format!("initialisation completes (`{}` succeeded)", self.name(s));
+            self.emit(ev, Event::Reply, s, None, None, text);
+            self.start_autos(cfg, ev);
+        }
+    }
+
+    fn start_autos(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
+        for (i, m) in self.members.iter().enumerate() {
+            if self.c.services[m.service].kind == ServiceKind::Auto && !Self::has_instance(cfg, i) {
+                cfg.pending[i] = Some(0);
+                let text = format!("auto service `{}` is acknowledged", self.name(m.service));
+                self.emit(ev, Event::Acknowledge, m.service, None, None, text);
+            }
+        }
+    }
+
+    /// Starts every pending instance that can start (step 7), until none can.
+    fn closure(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
+        loop {
+            let ready = (0..self.members.len()).find(|&i| self.can_start(cfg, i));
+            let Some(i) = ready else { return };
+            cfg.pending[i] = None;
+            let s = self.members[i].service;
+            match self.machine(i).start {
+                Some(p) => {
+                    cfg.main[i] = p;
+                    self.emit(
+                        ev,
+                        Event::Start,
+                        s,
+                        self.c.services[s].start,
+                        None,
+                        format!("`{}` starts", self.name(s)),
+                    );
+                }
+                None => {
+                    self.emit(
+                        ev,
+                        Event::Start,
+                        s,
+                        None,
+                        None,
+                        format!("`{}` completes at once", self.name(s)),
+                    );
+                    self.end(cfg, i, Ending::Success, false, ev);
+                }
+            }
+        }
+    }
+
+    /// Step 7: not delayed, and no longer waiting for interrupted instances.
+    fn can_start(&self, cfg: &Config, i: usize) -> bool {
+        cfg.pending[i] == Some(0)
+            && cfg.main[i] == IDLE
+            && !self.members[i]
+                .delayers
+                .iter()
+                .any(|&t| Self::has_instance(cfg, t))
+    }
+
+    /// Member `i`'s pending instance is blocked by these members' instances
+    /// (`true`: through `delays`; `false`: waiting for an interrupted
+    /// instance to end).
+    pub fn blockers(&self, cfg: &Config, i: usize) -> Vec<(usize, bool)> {
+        let Some(mask) = cfg.pending[i] else {
+            return Vec::new();
+        };
+        let m = &self.members[i];
+        let mut out: Vec<(usize, bool)> = m
+            .delayers
+            .iter()
+            .filter(|&&t| Self::has_instance(cfg, t))
+            .map(|&t| (t, true))
+            .collect();
+        out.extend(
+            m.stops
+                .iter()
+                .enumerate()
+                .filter(|(b, _)| mask & (1 << b) != 0)
+                .map(|(_, &t)| (t, false)),
+        );
+        out
+    }
+
+    /// The service of member `i`.
+    pub fn service(&self, i: usize) -> ServiceId {
+        self.members[i].service
+    }
+
+    /// The local machine of member `i`.
+    pub fn machine_of(&self, i: usize) -> &'a ServiceMachine {
+        self.machine(i)
+    }
+
+    fn name(&self, s: ServiceId) -> &'a str {
+        &self.c.services[s].name.name
+    }
+
+    fn function(&self, codel: CodelId) -> String {
+        self.c.codels[codel].call.as_ref().map_or_else(
+            || self.c.codels[codel].name.name.clone(),
+            |c| c.function.name.clone(),
+        )
+    }
+
+    fn outcome_name(&self, s: ServiceId, o: Outcome) -> String {
+        match o {
+            Outcome::Codel(c) => self.c.codels[c].name.name.clone(),
+            Outcome::End => "end".to_owned(),
+            Outcome::Report(r) => self.c.services[s]
+                .reports
+                .get(r)
+                .map_or_else(String::new, |r| r.name.clone()),
+        }
+    }
+
+    fn emit_reply(&self, ev: &mut Option<&mut Vec<TraceStep>>, s: ServiceId, reply: &str) {
+        let text = format!("`{}` replies {reply}", self.name(s));
+        self.emit(ev, Event::Reply, s, None, Some(reply.to_owned()), text);
+    }
+
+    fn emit(
+        &self,
+        ev: &mut Option<&mut Vec<TraceStep>>,
+        event: Event,
+        s: ServiceId,
+        codel: Option<CodelId>,
+        outcome: Option<String>,
+        text: String,
+    ) {
+        let Some(sink) = ev.as_deref_mut() else {
+            return;
+        };
+        let svc = &self.c.services[s];
+        let thread = match event {
+            Event::CodelStart | Event::CodelEnd => {
+                let m = self.b.machine(s);
+                Some(m.thread.map_or_else(
+                    || "control".to_owned(),
+                    |t| self.c.threads[t].name.name.clone(),
+                ))
+            }
+            Event::Request | Event::Accept | Event::Acknowledge => Some("control".to_owned()),
+            _ => None,
+        };
+        let span = codel.map_or(svc.name.span, |c| self.c.codels[c].name.span);
+        sink.push(TraceStep {
+            event,
+            time_ns: None,
+            thread,
+            service: Some(svc.name.name.clone()),
+            codel: codel.map(|c| self.c.codels[c].name.name.clone()),
+            outcome,
+            span: Some(span),
+            text,
+        });
+    }
+}
+
+fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
+    a.iter()
+        .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
+}
+
+fn member(c: &Component, b: &Behaviour, index: &[Option<usize>], s: ServiceId) -> Member {
+    let svc = &c.services[s];
+    let idx = |t: ServiceId| index.get(t.0 as usize).copied().flatten();
+    let stops: Vec<usize> = svc.stops.iter().filter_map(|r| idx(r.id)).collect();
+    let others = |rule: fn(
+        &genom_model::component::Service,
+    ) -> &Vec<genom_model::component::Ref<ServiceId>>| {
+        c.services
+            .iter()
+            .filter(|&(t, ts)| t != s && rule(ts).iter().any(|r| r.id == s))
+            .filter_map(|(t, _)| idx(t))
+            .collect::<Vec<usize>>()
+    };
+    let delayers = others(|t| &t.delays);
+    let forbidders = others(|t| &t.forbids);
+    let control = svc
+        .control
+        .map(|k| c.codels[k].structures())
+        .unwrap_or_default();
+    let positions = b.machine(s).positions.len();
+    let pos_bits = usize::BITS - positions.saturating_sub(1).leading_zeros();
+    let can_pend = !delayers.is_empty() || !stops.is_empty();
+    Member {
+        service: s,
+        self_stop: svc.stops.iter().any(|r| r.id == s),
+        stops,
+        delayers,
+        forbidders,
+        control,
+        pos_bits,
+        can_pend,
+    }
+}
+
+/// Words per encoded configuration: fields never straddle words, so count
+/// the way [`BitWriter`] fills them.
+fn width(members: &[Member]) -> usize {
+    let mut fields = vec![1u32];
+    for m in members {
+        fields.push(m.pos_bits);
+        if m.can_pend {
+            fields.push(1);
+            fields.push(stop_bits(m));
+        }
+    }
+    let (mut words, mut used) = (0, 64);
+    for bits in fields.into_iter().filter(|&b| b > 0) {
+        if used + bits > 64 {
+            words += 1;
+            used = 0;
+        }
+        used += bits;
+    }
+    words.max(1)
+}
+
+/// Packs values into 64-bit words.
+struct BitWriter<'w> {
+    out: &'w mut Vec<u64>,
+    used: u32,
+}
+
+impl BitWriter<'_> {
+    fn put(&mut self, value: u64, bits: u32) {
+        if bits == 0 {
+            return;
+        }
+        if self.used == 0 || self.used + bits > 64 {
+            self.out.push(0);
+            self.used = 0;
+        }
+        if let Some(last) = self.out.last_mut() {
+            *last |= value << self.used;
+        }
+        self.used += bits;
+    }
+}
+
+struct BitReader<'w> {
+    words: &'w [u64],
+    word: usize,
+    used: u32,
+    started: bool,
+}
+
+impl BitReader<'_> {
+    fn get(&mut self, bits: u32) -> u64 {
+        if bits == 0 {
+            return 0;
+        }
+        if !self.started || self.used + bits > 64 {
+            if self.started {
+                self.word += 1;
+            }
+            self.started = true;
+            self.used = 0;
+        }
+        let w = self.words.get(self.word).copied().unwrap_or(0);
+        let mask = if bits == 64 {
+            u64::MAX
+        } else {
+            (1 << bits) - 1
+        };
+        let v = (w >> self.used) & mask;
+        self.used += bits;
+        v
+    }
+}
+
+impl Model for System<'_> {
+    type State = Config;
+    type Action = Action;
+
+    fn width(&self) -> usize {
+        self.width
+    }
+
+    fn init_states(&self) -> Vec<Config> {
+        vec![self.initial(!self.pre_init, &mut None)]
+    }
+
+    fn actions(&self, cfg: &Config, out: &mut Vec<Action>) {
+        for (i, m) in self.members.iter().enumerate() {
+            let s = m.service;
+            if self.request_enabled(cfg, i) {
+                out.push(Action::Request(s));
+            }
+            let mach = self.machine(i);
+            let p = usize::from(cfg.main[i]);
+            if mach.begin[p].is_some() {
+                out.push(Action::Begin(s));
+            }
+            for k in 0..mach.finish[p].len() {
+                out.push(Action::Finish(s, u8::try_from(k).unwrap_or(u8::MAX)));
+            }
+            if mach.watchdog && cfg.pending[i].is_some() {
+                out.push(Action::Watchdog(s, true));
+            }
+            if mach.watchdog && mach.interrupt[p].is_some() {
+                out.push(Action::Watchdog(s, false));
+            }
+        }
+    }
+
+    fn next_state(&self, cfg: &Config, action: Action) -> Option<Config> {
+        self.apply(cfg, action, &mut None)
+    }
+
+    fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
+        let start = out.len();
+        let mut w = BitWriter { out, used: 0 };
+        w.put(u64::from(cfg.init_done), 1);
+        for (i, m) in self.members.iter().enumerate() {
+            w.put(u64::from(cfg.main[i]), m.pos_bits);
+            if m.can_pend {
+                w.put(u64::from(cfg.pending[i].is_some()), 1);
+                w.put(cfg.pending[i].unwrap_or(0), stop_bits(m));
+            }
+        }
+        out.resize(start + self.width, 0);
+    }
+
+    fn decode(&self, words: &[u64]) -> Config {
+        let mut r = BitReader {
+            words,
+            word: 0,
+            used: 0,
+            started: false,
+        };
+        let init_done = r.get(1) == 1;
+        let n = self.members.len();
+        let mut cfg = Config {
+            init_done,
+            main: Vec::with_capacity(n),
+            pending: Vec::with_capacity(n),
+        };
+        for m in &self.members {
+            cfg.main
+                .push(PosId::try_from(r.get(m.pos_bits)).unwrap_or(IDLE));
+            let pending = m.can_pend && r.get(1) == 1;
+            let mask = if m.can_pend { r.get(stop_bits(m)) } else { 0 };
+            cfg.pending.push(pending.then_some(mask));
+        }
+        cfg
+    }
+
+    fn expand(&self, cfg: &Config) -> bool {
+        !(self.pre_init && cfg.init_done)
+    }
+}
+
+/// Bits of a member's wait mask (at most 64 `stops` targets are tracked;
+/// the analysis refuses larger ones as incomplete).
+fn stop_bits(m: &Member) -> u32 {
+    u32::try_from(m.stops.len()).unwrap_or(64).min(64)
+}
+
+impl System<'_> {
+    /// Whether some member stops more than 64 services (not representable).
+    pub fn too_many_stops(&self) -> bool {
+        self.members.iter().any(|m| m.stops.len() > 64)
+    }
+}
