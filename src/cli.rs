@@ -48,6 +48,9 @@ pub enum Command {
     Check(CheckArgs),
     /// Explain a diagnostic code.
     Explain(ExplainArgs),
+    /// Print a random valid component (for benchmarks and tests).
+    #[command(hide = true)]
+    Generate(GenerateArgs),
 }
 
 /// Arguments of `check`.
@@ -107,6 +110,55 @@ fn parse_size(text: &str) -> Result<usize, String> {
 pub struct ExplainArgs {
     /// A diagnostic code, such as `deadlock` or `unknown-data`.
     pub code: String,
+}
+
+/// Arguments of the hidden `generate` subcommand (see
+/// `genom_checker::generate`).
+#[derive(Debug, Clone, Args)]
+pub struct GenerateArgs {
+    /// Seed of the random choices: the same arguments print the same text.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+
+    /// Number of services (init, autos and setters included).
+    #[arg(long, value_name = "K", default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub services: u64,
+
+    /// Start, exec and inter codels per threaded service.
+    #[arg(long, value_name = "C", default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
+    pub codels: u64,
+
+    /// Number of threads.
+    #[arg(long, value_name = "T", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100))]
+    pub threads: u64,
+
+    /// Expected stops + delays + forbids references per service.
+    #[arg(long, value_name = "D", default_value_t = 1.0)]
+    pub density: f64,
+
+    /// Make the first service an `init` service.
+    #[arg(long)]
+    pub init: bool,
+
+    /// Number of `auto` services.
+    #[arg(long, value_name = "A", default_value_t = 0)]
+    pub autos: u64,
+
+    /// Thread periods, codel WCETs and service max-times.
+    #[arg(long)]
+    pub timed: bool,
+
+    /// Let `auto` services list `delays` and `forbids` (may make services dead).
+    #[arg(long)]
+    pub auto_rules: bool,
+
+    /// Probability that an ordinary service is an attribute setter.
+    #[arg(long, value_name = "P", default_value_t = 0.0)]
+    pub setters: f64,
+
+    /// Probability of an extra loop edge per codel.
+    #[arg(long, value_name = "P", default_value_t = 0.3)]
+    pub loops: f64,
 }
 
 /// Output options.

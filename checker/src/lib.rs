@@ -9,6 +9,7 @@ pub mod engine;
 pub mod explain;
 pub mod generate;
 mod pipeline;
+pub mod replay;
 pub mod resolve;
 #[cfg(test)]
 pub mod testing;

@@ -132,14 +132,29 @@ impl Instance {
     /// The codel its thread runs now, if any.
     pub fn running(&self) -> Option<CodelId> {
         match self.phase {
-            Phase::Active { codel, running: true, .. } | Phase::Stopping { codel, running: true } => Some(codel),
+            Phase::Active {
+                codel,
+                running: true,
+                ..
+            }
+            | Phase::Stopping {
+                codel,
+                running: true,
+            } => Some(codel),
             _ => None,
         }
     }
 
     /// True once interrupted: stopping, or running with the interrupt noted.
     pub fn is_interrupted(&self) -> bool {
-        matches!(self.phase, Phase::Stopping { .. } | Phase::Active { interrupted: true, .. })
+        matches!(
+            self.phase,
+            Phase::Stopping { .. }
+                | Phase::Active {
+                    interrupted: true,
+                    ..
+                }
+        )
     }
 }
 
@@ -160,9 +175,20 @@ pub struct State {
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 enum Shape {
     Pending(Vec<(ServiceId, Option<CodelId>)>),
-    Ready { codel: CodelId, interrupt_leads_to: Option<CodelId> },
-    Running { codel: CodelId, interrupted: bool, by_watchdog: bool },
-    Stopping { codel: CodelId, running: bool, by_watchdog: bool },
+    Ready {
+        codel: CodelId,
+        interrupt_leads_to: Option<CodelId>,
+    },
+    Running {
+        codel: CodelId,
+        interrupted: bool,
+        by_watchdog: bool,
+    },
+    Stopping {
+        codel: CodelId,
+        running: bool,
+        by_watchdog: bool,
+    },
 }
 
 impl State {
@@ -201,17 +227,35 @@ impl State {
                     .iter()
                     .map(|i| match &i.phase {
                         Phase::Pending { waits_for } => {
-                            let mut w: Vec<_> = waits_for.iter().filter_map(|&id| owner(id)).collect();
+                            let mut w: Vec<_> =
+                                waits_for.iter().filter_map(|&id| owner(id)).collect();
                             w.sort();
                             Shape::Pending(w)
                         }
-                        &Phase::Active { codel, running: false, last_ran, .. } => {
-                            Shape::Ready { codel, interrupt_leads_to: interrupt_target(c, last_ran) }
-                        }
-                        &Phase::Active { codel, running: true, interrupted, .. } => {
-                            Shape::Running { codel, interrupted, by_watchdog: i.by_watchdog }
-                        }
-                        &Phase::Stopping { codel, running } => Shape::Stopping { codel, running, by_watchdog: i.by_watchdog },
+                        &Phase::Active {
+                            codel,
+                            running: false,
+                            last_ran,
+                            ..
+                        } => Shape::Ready {
+                            codel,
+                            interrupt_leads_to: interrupt_target(c, last_ran),
+                        },
+                        &Phase::Active {
+                            codel,
+                            running: true,
+                            interrupted,
+                            ..
+                        } => Shape::Running {
+                            codel,
+                            interrupted,
+                            by_watchdog: i.by_watchdog,
+                        },
+                        &Phase::Stopping { codel, running } => Shape::Stopping {
+                            codel,
+                            running,
+                            by_watchdog: i.by_watchdog,
+                        },
                     })
                     .collect();
                 shapes.sort();
@@ -223,24 +267,42 @@ impl State {
     fn describe(&self, c: &Component) -> String {
         let mut parts = Vec::new();
         for (k, v) in self.instances.iter().enumerate() {
-            let Some(svc) = u32::try_from(k).ok().and_then(|k| c.services.get(ServiceId(k))) else { continue };
+            let Some(svc) = u32::try_from(k)
+                .ok()
+                .and_then(|k| c.services.get(ServiceId(k)))
+            else {
+                continue;
+            };
             for i in v {
                 let what = match &i.phase {
                     Phase::Pending { .. } => "pending".to_owned(),
-                    Phase::Active { codel, running, interrupted, .. } => format!(
+                    Phase::Active {
+                        codel,
+                        running,
+                        interrupted,
+                        ..
+                    } => format!(
                         "active {} `{}`{}",
                         if *running { "running" } else { "at" },
                         c.codels[*codel].name.name,
                         if *interrupted { " (interrupted)" } else { "" }
                     ),
                     Phase::Stopping { codel, running } => {
-                        format!("stopping, {} `{}`", if *running { "running" } else { "at" }, c.codels[*codel].name.name)
+                        format!(
+                            "stopping, {} `{}`",
+                            if *running { "running" } else { "at" },
+                            c.codels[*codel].name.name
+                        )
                     }
                 };
                 parts.push(format!("`{}` {what}", svc.name.name));
             }
         }
-        if parts.is_empty() { "no instance".to_owned() } else { parts.join(", ") }
+        if parts.is_empty() {
+            "no instance".to_owned()
+        } else {
+            parts.join(", ")
+        }
     }
 }
 
@@ -332,10 +394,28 @@ pub fn replay(c: &Component, trace: &Trace) -> Result<ReplayEnd, ReplayError> {
 }
 
 /// [`replay`], then [`ReplayEnd::exhibits`].
-pub fn replay_claim(c: &Component, trace: &Trace, claim: Claim<'_>) -> Result<ReplayEnd, ReplayError> {
+pub fn replay_claim(
+    c: &Component,
+    trace: &Trace,
+    claim: Claim<'_>,
+) -> Result<ReplayEnd, ReplayError> {
     let end = replay(c, trace)?;
     end.exhibits(c, claim)?;
     Ok(end)
+}
+
+/// A step as shown in error messages: `codel-end `move::start` → `brake``.
+fn describe_step(step: &TraceStep) -> String {
+    let mut s = step.event.as_str().to_owned();
+    match (&step.service, &step.codel) {
+        (Some(svc), Some(k)) => s.push_str(&format!(" `{svc}::{k}`")),
+        (Some(svc), None) => s.push_str(&format!(" `{svc}`")),
+        _ => {}
+    }
+    if let Some(o) = &step.outcome {
+        s.push_str(&format!(" → `{o}`"));
+    }
+    s
 }
 
 /// An open request (between `request` and `acknowledge`/`reject`).
@@ -366,7 +446,11 @@ impl<'c> Replayer<'c> {
         let init_done = c.init_service().is_none();
         Replayer {
             c,
-            state: State { init_done, instances: vec![Vec::new(); c.services.len()], next_id: 0 },
+            state: State {
+                init_done,
+                instances: vec![Vec::new(); c.services.len()],
+                next_id: 0,
+            },
             replies: VecDeque::new(),
             autos_due: Vec::new(),
             request: None,
@@ -378,7 +462,11 @@ impl<'c> Replayer<'c> {
 
     fn run(mut self, trace: &Trace) -> Result<ReplayEnd, ReplayError> {
         let steps = &trace.steps;
-        let whole = |why: String| ReplayError { step: 0, what: String::new(), why };
+        let whole = |why: String| ReplayError {
+            step: 0,
+            what: String::new(),
+            why,
+        };
         if steps.first().map(|s| s.event) != Some(Event::ComponentStart) {
             return Err(whole("the first step must be `component-start`".to_owned()));
         }
@@ -396,14 +484,27 @@ impl<'c> Replayer<'c> {
         let mut loop_states = Vec::new();
         let mut loop_steps = Vec::new();
         for (k, step) in steps.iter().enumerate() {
-            let fail = |why: String| ReplayError { step: k + 1, what: self.describe_step(step), why };
+            let fail = |why: String| ReplayError {
+                step: k + 1,
+                what: describe_step(step),
+                why,
+            };
             if trace.loop_start.is_some_and(|l| k >= l && k < last) {
                 loop_states.push(self.state.clone());
-                loop_steps.push((k, step.event, step.service.as_deref().and_then(|n| self.c.service_named(n))));
+                loop_steps.push((
+                    k,
+                    step.event,
+                    step.service
+                        .as_deref()
+                        .and_then(|n| self.c.service_named(n)),
+                ));
             }
             if let Some(t) = step.time_ns {
                 if self.last_time.is_some_and(|p| t < p) {
-                    return Err(fail(format!("time goes backwards ({t} ns after {} ns)", self.last_time.unwrap_or(0))));
+                    return Err(fail(format!(
+                        "time goes backwards ({t} ns after {} ns)",
+                        self.last_time.unwrap_or(0)
+                    )));
                 }
                 self.last_time = Some(t);
             }
@@ -411,9 +512,11 @@ impl<'c> Replayer<'c> {
                 return Err(fail("a violation can only be the last step".to_owned()));
             }
             if step.event == Event::ComponentStart && k != 0 {
-                return Err(fail("the component starts only once, at the first step".to_owned()));
+                return Err(fail(
+                    "the component starts only once, at the first step".to_owned(),
+                ));
             }
-            self.step(k, step).map_err(fail)?;
+            self.step(step).map_err(fail)?;
         }
         if trace.loop_start.is_some() {
             loop_states.push(self.state.clone());
@@ -440,19 +543,6 @@ impl<'c> Replayer<'c> {
         })
     }
 
-    fn describe_step(&self, step: &TraceStep) -> String {
-        let mut s = step.event.as_str().to_owned();
-        match (&step.service, &step.codel) {
-            (Some(svc), Some(k)) => s.push_str(&format!(" `{svc}::{k}`")),
-            (Some(svc), None) => s.push_str(&format!(" `{svc}`")),
-            _ => {}
-        }
-        if let Some(o) = &step.outcome {
-            s.push_str(&format!(" → `{o}`"));
-        }
-        s
-    }
-
     fn name(&self, s: ServiceId) -> &'c str {
         &self.c.services[s].name.name
     }
@@ -462,13 +552,17 @@ impl<'c> Replayer<'c> {
     }
 
     fn thread_name(&self, s: ServiceId) -> &'c str {
-        self.c.services[s].thread.map_or("control", |t| self.c.threads[t.id].name.name.as_str())
+        self.c.services[s]
+            .thread
+            .map_or("control", |t| self.c.threads[t.id].name.name.as_str())
     }
 
     /// The service a step names.
     fn service_of(&self, step: &TraceStep) -> Result<ServiceId, String> {
         let name = step.service.as_deref().ok_or("the step names no service")?;
-        self.c.service_named(name).ok_or_else(|| format!("the component has no service `{name}`"))
+        self.c
+            .service_named(name)
+            .ok_or_else(|| format!("the component has no service `{name}`"))
     }
 
     fn codel_of(&self, s: ServiceId, step: &TraceStep) -> Result<Option<CodelId>, String> {
@@ -484,15 +578,20 @@ impl<'c> Replayer<'c> {
 
     fn check_thread(&self, step: &TraceStep, expected: &str) -> StepResult {
         match step.thread.as_deref() {
-            Some(t) if t != expected => Err(format!("this happens on thread `{expected}`, not `{t}`")),
+            Some(t) if t != expected => {
+                Err(format!("this happens on thread `{expected}`, not `{t}`"))
+            }
             _ => Ok(()),
         }
     }
 
-    fn step(&mut self, k: usize, step: &TraceStep) -> StepResult {
+    fn step(&mut self, step: &TraceStep) -> StepResult {
         if step.event != Event::Reply {
             if let Some((s, v)) = self.replies.front() {
-                return Err(format!("`{}` has ended: its final reply `{v}` must come first", self.name(*s)));
+                return Err(format!(
+                    "`{}` has ended: its final reply `{v}` must come first",
+                    self.name(*s)
+                ));
             }
         }
         match step.event {
@@ -513,17 +612,19 @@ impl<'c> Replayer<'c> {
             Event::Watchdog => self.watchdog(step),
             Event::Reply => self.reply(step),
             Event::WakeUp | Event::Delay => self.settled(),
-            Event::Violation => {
-                let _ = k;
-                self.settled()
-            }
+            Event::Violation => self.settled(),
         }
     }
 
     /// Initialisation is complete: every auto service is due.
     fn initialised(&mut self) {
-        self.autos_due =
-            self.c.services.iter().filter(|(_, s)| s.kind == ServiceKind::Auto).map(|(id, _)| id).collect();
+        self.autos_due = self
+            .c
+            .services
+            .iter()
+            .filter(|(_, s)| s.kind == ServiceKind::Auto)
+            .map(|(id, _)| id)
+            .collect();
     }
 
     /// The state is stable: no open request, no owed reply or auto
@@ -554,17 +655,28 @@ impl<'c> Replayer<'c> {
 
     /// Why the pending instance of `s` cannot start, or `None` if it can.
     fn start_blocker(&self, s: ServiceId) -> Option<String> {
-        let Some(Instance { phase: Phase::Pending { waits_for }, .. }) = self.state.pending(s) else {
+        let Some(Instance {
+            phase: Phase::Pending { waits_for },
+            ..
+        }) = self.state.pending(s)
+        else {
             return Some(format!("`{}` has no pending instance", self.name(s)));
         };
         for (t, ts) in self.c.services.iter() {
             if t != s && self.state.has_instance(t) && ts.delays.iter().any(|r| r.id == s) {
-                return Some(format!("`{}` has an instance and delays `{}` (step 7a)", ts.name.name, self.name(s)));
+                return Some(format!(
+                    "`{}` has an instance and delays `{}` (step 7a)",
+                    ts.name.name,
+                    self.name(s)
+                ));
             }
         }
         for &id in waits_for {
             if let Some((t, i)) = self.state.find(id) {
-                let at = i.codel().map(|k| format!(" at `{}`", self.codel_name(k))).unwrap_or_default();
+                let at = i
+                    .codel()
+                    .map(|k| format!(" at `{}`", self.codel_name(k)))
+                    .unwrap_or_default();
                 return Some(format!(
                     "it still waits for the interrupted instance of `{}`{at} to end (step 7b)",
                     self.name(t)
@@ -572,7 +684,10 @@ impl<'c> Replayer<'c> {
             }
         }
         if let Some(i) = self.state.started(s) {
-            let at = i.codel().map(|k| format!(" at `{}`", self.codel_name(k))).unwrap_or_default();
+            let at = i
+                .codel()
+                .map(|k| format!(" at `{}`", self.codel_name(k)))
+                .unwrap_or_default();
             return Some(format!("`{}` still has an instance{at}", self.name(s)));
         }
         None
@@ -585,11 +700,9 @@ impl<'c> Replayer<'c> {
                 return Some("NOT_INITIALIZED");
             }
         }
-        let forbidden = self
-            .c
-            .services
-            .iter()
-            .any(|(t, ts)| t != s && self.state.has_instance(t) && ts.forbids.iter().any(|r| r.id == s));
+        let forbidden = self.c.services.iter().any(|(t, ts)| {
+            t != s && self.state.has_instance(t) && ts.forbids.iter().any(|r| r.id == s)
+        });
         if forbidden {
             return Some("FORBIDDEN");
         }
@@ -606,21 +719,34 @@ impl<'c> Replayer<'c> {
         let s = self.service_of(step)?;
         let rule = self.rule(s);
         let accepted = rule.is_none() && self.c.services[s].control.is_none();
-        self.request = Some(OpenRequest { service: s, rule, accepted });
+        self.request = Some(OpenRequest {
+            service: s,
+            rule,
+            accepted,
+        });
         Ok(())
     }
 
     fn open_request(&self, step: &TraceStep, s: ServiceId) -> Result<OpenRequest, String> {
         match &self.request {
             Some(r) if r.service == s => Ok(r.clone()),
-            Some(r) => Err(format!("the open request is for `{}`, not `{}`", self.name(r.service), self.name(s))),
-            None => Err(format!("no request for `{}` is being handled", step.service.as_deref().unwrap_or("?"))),
+            Some(r) => Err(format!(
+                "the open request is for `{}`, not `{}`",
+                self.name(r.service),
+                self.name(s)
+            )),
+            None => Err(format!(
+                "no request for `{}` is being handled",
+                step.service.as_deref().unwrap_or("?")
+            )),
         }
     }
 
     /// The control codel of `s` can take its locks now.
     fn control_locks(&self, s: ServiceId) -> StepResult {
-        let Some(control) = self.c.services[s].control else { return Ok(()) };
+        let Some(control) = self.c.services[s].control else {
+            return Ok(());
+        };
         for (t, v) in self.c.services.iter().map(|(t, _)| (t, self.state.of(t))) {
             for k in v.iter().filter_map(Instance::running) {
                 if self.c.conflicts(control, k) {
@@ -641,10 +767,15 @@ impl<'c> Replayer<'c> {
         let r = self.open_request(step, s)?;
         self.check_thread(step, "control")?;
         if let Some(reason) = r.rule {
-            return Err(format!("the request must be rejected with `{reason}` before any control codel runs"));
+            return Err(format!(
+                "the request must be rejected with `{reason}` before any control codel runs"
+            ));
         }
         let Some(control) = self.c.services[s].control else {
-            return Err(format!("`{}` has no control codel to accept the request", self.name(s)));
+            return Err(format!(
+                "`{}` has no control codel to accept the request",
+                self.name(s)
+            ));
         };
         if r.accepted {
             return Err("the request was already accepted".to_owned());
@@ -667,12 +798,16 @@ impl<'c> Replayer<'c> {
         };
         match r.rule {
             Some(expected) if expected != reason => {
-                return Err(format!("the request must be rejected with `{expected}` (the first rule of section 3 that applies), not `{reason}`"));
+                return Err(format!(
+                    "the request must be rejected with `{expected}` (the first rule of section 3 that applies), not `{reason}`"
+                ));
             }
             Some(_) => {}
             None => {
                 if r.accepted {
-                    return Err("the request was already accepted: it cannot be rejected now".to_owned());
+                    return Err(
+                        "the request was already accepted: it cannot be rejected now".to_owned(),
+                    );
                 }
                 if self.c.services[s].control.is_none() {
                     return Err(format!(
@@ -710,7 +845,11 @@ impl<'c> Replayer<'c> {
             ));
         }
         if !requester.stops.iter().any(|x| x.id == t) {
-            return Err(format!("`{}` does not list `{}` in `stops`: it cannot interrupt it", requester.name.name, self.name(t)));
+            return Err(format!(
+                "`{}` does not list `{}` in `stops`: it cannot interrupt it",
+                requester.name.name,
+                self.name(t)
+            ));
         }
         let codel = self.codel_of(t, step)?;
         self.interrupt_instance(t, codel, false)
@@ -720,7 +859,10 @@ impl<'c> Replayer<'c> {
         self.settled()?;
         let s = self.service_of(step)?;
         if self.c.services[s].max_time.is_none() {
-            return Err(format!("`{}` has no `max-time`: no watchdog can interrupt it", self.name(s)));
+            return Err(format!(
+                "`{}` has no `max-time`: no watchdog can interrupt it",
+                self.name(s)
+            ));
         }
         let codel = self.codel_of(s, step)?;
         self.interrupt_instance(s, codel, true)
@@ -728,7 +870,12 @@ impl<'c> Replayer<'c> {
 
     /// Interrupts the pending instance of `s` (`codel` is `None`) or its
     /// started one at `codel`.
-    fn interrupt_instance(&mut self, s: ServiceId, codel: Option<CodelId>, watchdog: bool) -> StepResult {
+    fn interrupt_instance(
+        &mut self,
+        s: ServiceId,
+        codel: Option<CodelId>,
+        watchdog: bool,
+    ) -> StepResult {
         let reply = if watchdog { "TIMEOUT" } else { "INTERRUPTED" };
         let v = &self.state.instances[s.0 as usize];
         let pos = match codel {
@@ -741,7 +888,10 @@ impl<'c> Replayer<'c> {
         };
         let inst = &v[pos];
         if inst.is_interrupted() {
-            return Err(format!("`{}` is already interrupted: a stopping service is not interrupted again", self.name(s)));
+            return Err(format!(
+                "`{}` is already interrupted: a stopping service is not interrupted again",
+                self.name(s)
+            ));
         }
         let c = self.c;
         let ends = match inst.phase.clone() {
@@ -754,16 +904,28 @@ impl<'c> Replayer<'c> {
                 inst.by_watchdog = watchdog;
                 false
             }
-            Phase::Active { running: false, last_ran, .. } => match interrupt_target(c, last_ran) {
+            Phase::Active {
+                running: false,
+                last_ran,
+                ..
+            } => match interrupt_target(c, last_ran) {
                 Some(x) => {
                     let inst = &mut self.state.instances[s.0 as usize][pos];
-                    inst.phase = Phase::Stopping { codel: x, running: false };
+                    inst.phase = Phase::Stopping {
+                        codel: x,
+                        running: false,
+                    };
                     inst.by_watchdog = watchdog;
                     false
                 }
                 None => true,
             },
-            Phase::Stopping { .. } => unreachable_stop(),
+            Phase::Stopping { .. } => {
+                return Err(format!(
+                    "`{}` is stopping: it is not interrupted again",
+                    self.name(s)
+                ));
+            }
         };
         if ends {
             self.end(s, pos, reply.to_owned(), false);
@@ -776,19 +938,29 @@ impl<'c> Replayer<'c> {
         let s = self.service_of(step)?;
         if let Some(r) = self.request.clone() {
             if r.service != s {
-                return Err(format!("the open request is for `{}`, not `{}`", self.name(r.service), self.name(s)));
+                return Err(format!(
+                    "the open request is for `{}`, not `{}`",
+                    self.name(r.service),
+                    self.name(s)
+                ));
             }
             if let Some(reason) = r.rule {
                 return Err(format!("the request must be rejected with `{reason}`"));
             }
             if !r.accepted {
-                return Err(format!("`{}` has a control codel: it must accept the request first (step 4)", self.name(s)));
+                return Err(format!(
+                    "`{}` has a control codel: it must accept the request first (step 4)",
+                    self.name(s)
+                ));
             }
             let mut waits_for = BTreeSet::new();
             for t in self.c.services[s].stops.iter().map(|x| x.id) {
                 for i in self.state.of(t) {
                     if !i.is_interrupted() {
-                        let at = i.codel().map_or_else(|| " (pending)".to_owned(), |k| format!(" at `{}`", self.codel_name(k)));
+                        let at = i.codel().map_or_else(
+                            || " (pending)".to_owned(),
+                            |k| format!(" at `{}`", self.codel_name(k)),
+                        );
                         return Err(format!(
                             "`{}` stops `{}`, whose instance{at} was not interrupted (step 5 comes before the acknowledgment)",
                             self.name(s),
@@ -814,7 +986,10 @@ impl<'c> Replayer<'c> {
         };
         self.autos_due.remove(at);
         if self.state.has_instance(s) {
-            return Err(format!("auto service `{}` already has an instance", self.name(s)));
+            return Err(format!(
+                "auto service `{}` already has an instance",
+                self.name(s)
+            ));
         }
         self.new_pending(s, BTreeSet::new());
         Ok(())
@@ -823,7 +998,11 @@ impl<'c> Replayer<'c> {
     fn new_pending(&mut self, s: ServiceId, waits_for: BTreeSet<InstanceId>) {
         let id = self.state.next_id;
         self.state.next_id += 1;
-        self.state.instances[s.0 as usize].push(Instance { id, phase: Phase::Pending { waits_for }, by_watchdog: false });
+        self.state.instances[s.0 as usize].push(Instance {
+            id,
+            phase: Phase::Pending { waits_for },
+            by_watchdog: false,
+        });
     }
 
     fn start(&mut self, step: &TraceStep) -> StepResult {
@@ -833,19 +1012,33 @@ impl<'c> Replayer<'c> {
         }
         let codel = self.codel_of(s, step)?;
         let svc = &self.c.services[s];
-        let pos = self.state.instances[s.0 as usize].iter().position(Instance::is_pending).unwrap_or_default();
+        let pos = self.state.instances[s.0 as usize]
+            .iter()
+            .position(Instance::is_pending)
+            .unwrap_or_default();
         self.started.insert(s);
         match svc.start {
             Some(start) => {
                 if codel.is_some_and(|k| k != start) {
-                    return Err(format!("`{}` starts at its start codel, not at `{}`", self.name(s), step.codel.as_deref().unwrap_or("")));
+                    return Err(format!(
+                        "`{}` starts at its start codel, not at `{}`",
+                        self.name(s),
+                        step.codel.as_deref().unwrap_or("")
+                    ));
                 }
-                self.state.instances[s.0 as usize][pos].phase =
-                    Phase::Active { codel: start, running: false, last_ran: None, interrupted: false };
+                self.state.instances[s.0 as usize][pos].phase = Phase::Active {
+                    codel: start,
+                    running: false,
+                    last_ran: None,
+                    interrupted: false,
+                };
             }
             None => {
                 if codel.is_some() {
-                    return Err(format!("`{}` has no start codel: it completes at once", self.name(s)));
+                    return Err(format!(
+                        "`{}` has no start codel: it completes at once",
+                        self.name(s)
+                    ));
                 }
                 self.end(s, pos, "end".to_owned(), true);
             }
@@ -858,11 +1051,20 @@ impl<'c> Replayer<'c> {
         let s = self.service_of(step)?;
         let thread = self.thread_name(s);
         self.check_thread(step, thread)?;
-        let Some(k) = self.codel_of(s, step)? else { return Err("the step names no codel".to_owned()) };
+        let Some(k) = self.codel_of(s, step)? else {
+            return Err("the step names no codel".to_owned());
+        };
         let pos = self.state.instances[s.0 as usize]
             .iter()
             .position(|i| i.codel() == Some(k) && i.running().is_none())
-            .ok_or_else(|| format!("`{}` is not ready to run `{}`: {}", self.name(s), self.codel_name(k), self.state.describe(self.c)))?;
+            .ok_or_else(|| {
+                format!(
+                    "`{}` is not ready to run `{}`: {}",
+                    self.name(s),
+                    self.codel_name(k),
+                    self.state.describe(self.c)
+                )
+            })?;
         let my_thread = self.c.services[s].thread.map(|t| t.id);
         for (t, ts) in self.c.services.iter() {
             for running in self.state.of(t).iter().filter_map(Instance::running) {
@@ -894,51 +1096,83 @@ impl<'c> Replayer<'c> {
         self.settled()?;
         let s = self.service_of(step)?;
         self.check_thread(step, self.thread_name(s))?;
-        let Some(k) = self.codel_of(s, step)? else { return Err("the step names no codel".to_owned()) };
+        let Some(k) = self.codel_of(s, step)? else {
+            return Err("the step names no codel".to_owned());
+        };
         let pos = self.state.instances[s.0 as usize]
             .iter()
             .position(|i| i.running() == Some(k))
-            .ok_or_else(|| format!("`{}` is not running `{}`: {}", self.name(s), self.codel_name(k), self.state.describe(self.c)))?;
+            .ok_or_else(|| {
+                format!(
+                    "`{}` is not running `{}`: {}",
+                    self.name(s),
+                    self.codel_name(k),
+                    self.state.describe(self.c)
+                )
+            })?;
         let codel = &self.c.codels[k];
         let outcome = match step.outcome.as_deref() {
             None => None,
             Some(o) => Some(self.outcome_named(s, k, o)?),
         };
         let inst = self.state.instances[s.0 as usize][pos].clone();
-        let interrupted_reply = if inst.by_watchdog { "TIMEOUT" } else { "INTERRUPTED" };
-        let slot = &mut self.state.instances[s.0 as usize][pos];
-        match inst.phase {
-            Phase::Active { interrupted: true, .. } => match codel.on_inter {
-                Some(x) => slot.phase = Phase::Stopping { codel: x.id, running: false },
-                None => self.end(s, pos, interrupted_reply.to_owned(), false),
+        let interrupted_reply = if inst.by_watchdog {
+            "TIMEOUT"
+        } else {
+            "INTERRUPTED"
+        };
+        let report = |r: usize| {
+            self.c.services[s]
+                .reports
+                .get(r)
+                .map_or_else(String::new, |r| r.name.clone())
+        };
+        // Where the instance goes: a new phase, or an ending (reply, success).
+        let next: Result<Phase, (String, bool)> = match inst.phase {
+            Phase::Active {
+                interrupted: true, ..
+            } => match codel.on_inter {
+                Some(x) => Ok(Phase::Stopping {
+                    codel: x.id,
+                    running: false,
+                }),
+                None => Err((interrupted_reply.to_owned(), false)),
             },
-            Phase::Active { .. } => {
-                let Some(o) = outcome else {
-                    return Err(format!("`{}` was not interrupted: the step must give its outcome", self.codel_name(k)));
-                };
-                match o {
-                    Outcome::Codel(x) => slot.phase = Phase::Active { codel: x, running: false, last_ran: Some(k), interrupted: false },
-                    Outcome::End => self.end(s, pos, "end".to_owned(), true),
-                    Outcome::Report(r) => {
-                        let name = self.c.services[s].reports[r].name.clone();
-                        self.end(s, pos, name, false);
-                    }
+            Phase::Active { .. } => match outcome {
+                None => {
+                    return Err(format!(
+                        "`{}` was not interrupted: the step must give its outcome",
+                        self.codel_name(k)
+                    ));
                 }
-            }
-            Phase::Stopping { .. } => {
-                let Some(o) = outcome else {
-                    return Err(format!("stopping services follow the `next` of their codels: the step must give the outcome of `{}`", self.codel_name(k)));
-                };
-                match o {
-                    Outcome::Codel(x) => slot.phase = Phase::Stopping { codel: x, running: false },
-                    Outcome::End => self.end(s, pos, interrupted_reply.to_owned(), false),
-                    Outcome::Report(r) => {
-                        let name = self.c.services[s].reports[r].name.clone();
-                        self.end(s, pos, name, false);
-                    }
+                Some(Outcome::Codel(x)) => Ok(Phase::Active {
+                    codel: x,
+                    running: false,
+                    last_ran: Some(k),
+                    interrupted: false,
+                }),
+                Some(Outcome::End) => Err(("end".to_owned(), true)),
+                Some(Outcome::Report(r)) => Err((report(r), false)),
+            },
+            Phase::Stopping { .. } => match outcome {
+                None => {
+                    return Err(format!(
+                        "stopping services follow the `next` of their codels: the step must give the outcome of `{}`",
+                        self.codel_name(k)
+                    ));
                 }
-            }
-            Phase::Pending { .. } => {}
+                Some(Outcome::Codel(x)) => Ok(Phase::Stopping {
+                    codel: x,
+                    running: false,
+                }),
+                Some(Outcome::End) => Err((interrupted_reply.to_owned(), false)),
+                Some(Outcome::Report(r)) => Err((report(r), false)),
+            },
+            Phase::Pending { .. } => return Err("a pending instance runs no codel".to_owned()),
+        };
+        match next {
+            Ok(phase) => self.state.instances[s.0 as usize][pos].phase = phase,
+            Err((reply, success)) => self.end(s, pos, reply, success),
         }
         Ok(())
     }
@@ -949,7 +1183,10 @@ impl<'c> Replayer<'c> {
         let found = outcomes.iter().copied().find(|&x| match x {
             Outcome::End => o == "end",
             Outcome::Codel(x) => self.codel_name(x) == o,
-            Outcome::Report(r) => self.c.services[s].reports.get(r).is_some_and(|r| r.name == o),
+            Outcome::Report(r) => self.c.services[s]
+                .reports
+                .get(r)
+                .is_some_and(|r| r.name == o),
         });
         found.ok_or_else(|| {
             let names: Vec<String> = outcomes
@@ -957,10 +1194,20 @@ impl<'c> Replayer<'c> {
                 .map(|&x| match x {
                     Outcome::End => "`end`".to_owned(),
                     Outcome::Codel(x) => format!("`{}`", self.codel_name(x)),
-                    Outcome::Report(r) => format!("`{}`", self.c.services[s].reports.get(r).map_or("?", |r| r.name.as_str())),
+                    Outcome::Report(r) => format!(
+                        "`{}`",
+                        self.c.services[s]
+                            .reports
+                            .get(r)
+                            .map_or("?", |r| r.name.as_str())
+                    ),
                 })
                 .collect();
-            format!("`{o}` is not an outcome of `{}` (its `next` is {})", self.codel_name(k), names.join(", "))
+            format!(
+                "`{o}` is not an outcome of `{}` (its `next` is {})",
+                self.codel_name(k),
+                names.join(", ")
+            )
         })
     }
 
@@ -983,12 +1230,22 @@ impl<'c> Replayer<'c> {
             ));
         };
         if owed != s {
-            return Err(format!("`{}` has ended and must reply first (with `{value}`)", self.name(owed)));
+            return Err(format!(
+                "`{}` has ended and must reply first (with `{value}`)",
+                self.name(owed)
+            ));
         }
         match step.outcome.as_deref() {
-            None => return Err(format!("a final reply must give its value (here `{value}`); none is given")),
+            None => {
+                return Err(format!(
+                    "a final reply must give its value (here `{value}`); none is given"
+                ));
+            }
             Some(v) if v != value => {
-                return Err(format!("`{}` must reply `{value}` (how its instance ended), not `{v}`", self.name(s)));
+                return Err(format!(
+                    "`{}` must reply `{value}` (how its instance ended), not `{v}`",
+                    self.name(s)
+                ));
             }
             Some(_) => {}
         }
@@ -997,19 +1254,24 @@ impl<'c> Replayer<'c> {
     }
 }
 
-/// A stopping instance is never interruptible (checked before).
-fn unreachable_stop() -> bool {
-    false
-}
-
 impl ReplayEnd {
     /// Checks that the end of the trace shows `claim`.
     pub fn exhibits(&self, c: &Component, claim: Claim<'_>) -> Result<(), ReplayError> {
-        let fail = |why: String| ReplayError { step: self.violation_step, what: "violation".to_owned(), why };
-        let service = |name: &str| c.service_named(name).ok_or_else(|| fail(format!("the component has no service `{name}`")));
+        let fail = |why: String| ReplayError {
+            step: self.violation_step,
+            what: "violation".to_owned(),
+            why,
+        };
+        let service = |name: &str| {
+            c.service_named(name)
+                .ok_or_else(|| fail(format!("the component has no service `{name}`")))
+        };
         match claim {
             Claim::Deadlock(names) => {
-                let set = names.iter().map(|n| service(n)).collect::<Result<Vec<_>, _>>()?;
+                let set = names
+                    .iter()
+                    .map(|n| service(n))
+                    .collect::<Result<Vec<_>, _>>()?;
                 self.deadlock(c, &set).map_err(fail)
             }
             Claim::Starvation { waiter, blocker } => {
@@ -1034,15 +1296,24 @@ impl ReplayEnd {
         let name = |s: ServiceId| c.services[s].name.name.as_str();
         for &s in set {
             if self.state.pending(s).is_none() {
-                return Err(format!("`{}` has no pending instance: {}", name(s), self.state.describe(c)));
+                return Err(format!(
+                    "`{}` has no pending instance: {}",
+                    name(s),
+                    self.state.describe(c)
+                ));
             }
             if c.services[s].max_time.is_some() {
-                return Err(format!("`{}` has a max-time: its watchdog ends the pending instance, no deadlock", name(s)));
+                return Err(format!(
+                    "`{}` has a max-time: its watchdog ends the pending instance, no deadlock",
+                    name(s)
+                ));
             }
         }
         // `s` waits for `t`: `t` is in the set, pending, and delays `s`.
         let waits = |s: ServiceId, t: ServiceId| {
-            s != t && self.state.pending(t).is_some() && c.services[t].delays.iter().any(|r| r.id == s)
+            s != t
+                && self.state.pending(t).is_some()
+                && c.services[t].delays.iter().any(|r| r.id == s)
         };
         for &s in set {
             let mut seen = BTreeSet::from([s]);
@@ -1065,13 +1336,30 @@ impl ReplayEnd {
         Ok(())
     }
 
-    fn blocked_by(c: &Component, state: &State, w: ServiceId, b: ServiceId) -> Result<InstanceId, String> {
+    fn blocked_by(
+        c: &Component,
+        state: &State,
+        w: ServiceId,
+        b: ServiceId,
+    ) -> Result<InstanceId, String> {
         let name = |s: ServiceId| c.services[s].name.name.as_str();
-        let Some(Instance { phase: Phase::Pending { waits_for }, .. }) = state.pending(w) else {
-            return Err(format!("`{}` is not pending: {}", name(w), state.describe(c)));
+        let Some(Instance {
+            phase: Phase::Pending { waits_for },
+            ..
+        }) = state.pending(w)
+        else {
+            return Err(format!(
+                "`{}` is not pending: {}",
+                name(w),
+                state.describe(c)
+            ));
         };
         let Some(blocker) = state.started(b) else {
-            return Err(format!("`{}` has no started instance: {}", name(b), state.describe(c)));
+            return Err(format!(
+                "`{}` has no started instance: {}",
+                name(b),
+                state.describe(c)
+            ));
         };
         let delays = b != w && c.services[b].delays.iter().any(|r| r.id == w);
         if !delays && !waits_for.contains(&blocker.id) {
@@ -1087,10 +1375,16 @@ impl ReplayEnd {
     fn starvation(&self, c: &Component, w: ServiceId, b: ServiceId) -> Result<(), String> {
         let name = |s: ServiceId| c.services[s].name.name.as_str();
         if c.services[w].max_time.is_some() {
-            return Err(format!("`{}` has a max-time: its watchdog ends the wait, it does not starve", name(w)));
+            return Err(format!(
+                "`{}` has a max-time: its watchdog ends the wait, it does not starve",
+                name(w)
+            ));
         }
         if self.loop_states.is_empty() {
-            return Err("a starvation trace must end with a loop that repeats forever (no loop_start)".to_owned());
+            return Err(
+                "a starvation trace must end with a loop that repeats forever (no loop_start)"
+                    .to_owned(),
+            );
         }
         let mut ids = BTreeSet::new();
         let mut waiter_ids = BTreeSet::new();
@@ -1099,13 +1393,25 @@ impl ReplayEnd {
             waiter_ids.extend(st.pending(w).map(|i| i.id));
         }
         if ids.len() != 1 || waiter_ids.len() != 1 {
-            return Err("the loop does not keep the same instances: the blocker or the waiter changes".to_owned());
+            return Err(
+                "the loop does not keep the same instances: the blocker or the waiter changes"
+                    .to_owned(),
+            );
         }
-        let blocker_stopping = self.loop_states[0].started(b).is_some_and(Instance::is_interrupted);
+        let blocker_stopping = self.loop_states[0]
+            .started(b)
+            .is_some_and(Instance::is_interrupted);
         if c.services[b].max_time.is_some() && !blocker_stopping {
-            return Err(format!("`{}` has a max-time: its watchdog would end it", name(b)));
+            return Err(format!(
+                "`{}` has a max-time: its watchdog would end it",
+                name(b)
+            ));
         }
-        if !self.loop_steps.iter().any(|&(_, e, s)| e == Event::CodelEnd && s == Some(b)) {
+        if !self
+            .loop_steps
+            .iter()
+            .any(|&(_, e, s)| e == Event::CodelEnd && s == Some(b))
+        {
             return Err(format!("the loop runs no codel of `{}`", name(b)));
         }
         Ok(())
@@ -1119,16 +1425,32 @@ impl ReplayEnd {
         let mut ids = BTreeSet::new();
         for st in self.loop_states.iter().chain([&self.state]) {
             match st.started(s) {
-                Some(i @ Instance { phase: Phase::Stopping { .. }, .. }) => {
+                Some(
+                    i @ Instance {
+                        phase: Phase::Stopping { .. },
+                        ..
+                    },
+                ) => {
                     ids.insert(i.id);
                 }
-                _ => return Err(format!("`{name}` is not stopping at every step of the loop: {}", st.describe(c))),
+                _ => {
+                    return Err(format!(
+                        "`{name}` is not stopping at every step of the loop: {}",
+                        st.describe(c)
+                    ));
+                }
             }
         }
         if ids.len() != 1 {
-            return Err(format!("the loop does not keep the same instance of `{name}`"));
+            return Err(format!(
+                "the loop does not keep the same instance of `{name}`"
+            ));
         }
-        if !self.loop_steps.iter().any(|&(_, e, x)| e == Event::CodelEnd && x == Some(s)) {
+        if !self
+            .loop_steps
+            .iter()
+            .any(|&(_, e, x)| e == Event::CodelEnd && x == Some(s))
+        {
             return Err(format!("the loop runs no codel of `{name}`"));
         }
         Ok(())
@@ -1144,7 +1466,10 @@ impl ReplayEnd {
             Some(Fate::Rejected(_)) => Ok(()),
             Some(Fate::Acknowledged) => {
                 if self.state.pending(s).is_none() {
-                    return Err(format!("`{name}` was acknowledged but is no longer pending: {}", self.state.describe(c)));
+                    return Err(format!(
+                        "`{name}` was acknowledged but is no longer pending: {}",
+                        self.state.describe(c)
+                    ));
                 }
                 Ok(())
             }

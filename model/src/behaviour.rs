@@ -149,9 +149,8 @@ pub struct ServiceMachine {
     /// The effect of an interrupt at each position (`None`: no effect,
     /// because idle or already interrupted).
     pub interrupt: Vec<Option<Effect>>,
-    /// Active positions from which the instance may never end by itself:
-    /// an `auto` service, or a loop with no `max-time` to bound it (for
-    /// starvation verdicts).
+    /// Active positions from which the instance may never end by itself: a
+    /// loop with no `max-time` to bound it (for starvation verdicts).
     pub may_never_end: Vec<bool>,
     /// Interrupted positions from which the inter codels can loop forever
     /// (for `unbounded-interrupt`).
@@ -261,9 +260,10 @@ impl ServiceMachine {
     }
 
     /// `may_never_end` for every position (see the field): an active
-    /// instance of an `auto` service, or of a service without `max-time`
-    /// that can loop forever. Interrupted instances that loop are the
-    /// separate `unbounded-interrupt` verdict.
+    /// instance of a service without `max-time` that can loop forever (an
+    /// `auto` service that loops is one; one that ends, or has a watchdog,
+    /// is not). Interrupted instances that loop are the separate
+    /// `unbounded-interrupt` verdict.
     fn never_ending(&self) -> Vec<bool> {
         let active_loops = self.loops(|p| p != Position::Idle && !p.is_interrupted());
         self.positions
@@ -271,7 +271,7 @@ impl ServiceMachine {
             .enumerate()
             .map(|(i, &p)| {
                 let active = p != Position::Idle && !p.is_interrupted();
-                active && (self.auto || (!self.watchdog && active_loops[i]))
+                active && !self.watchdog && active_loops[i]
             })
             .collect()
     }

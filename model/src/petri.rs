@@ -621,8 +621,9 @@ impl<'a> Builder<'a> {
         self.request_chain(s, t);
     }
 
-    /// Running places whose codel conflicts with `codel` (or runs on
-    /// `thread`), of every service but `except`.
+    /// Running places whose codel conflicts with `codel`, or that belong to
+    /// another service of `thread` (given as the service `codel` belongs to
+    /// and its thread; that service's own places are left out).
     fn locked_by(&self, codel: CodelId, thread: Option<(ServiceId, ThreadId)>) -> Vec<PlaceId> {
         let mut out = Vec::new();
         for j in self.c.services.ids() {
@@ -985,9 +986,9 @@ impl<'a> Builder<'a> {
             Effect::End(e) => {
                 let tr = tr.post(self.idle(s));
                 if e == Ending::Success {
-                    self.success(s, tr)
+                    self.success(s, tr);
                 } else {
-                    self.add(tr)
+                    self.add(tr);
                 }
             }
         }
@@ -1001,20 +1002,19 @@ impl<'a> Builder<'a> {
         effect: Effect,
     ) -> String {
         let what = self.c.codel_label(codel);
+        let name = self.name(s);
         let ends = match effect {
-            Effect::End(Ending::Success) => "; the service ends (success)".to_owned(),
-            Effect::End(Ending::Report(r)) => format!("; the service ends ({})", self.report(s, r)),
-            Effect::End(Ending::Interrupted) => {
-                "; the service ends (INTERRUPTED/TIMEOUT)".to_owned()
+            Effect::End(Ending::Success) => format!("{name} ends (success)"),
+            Effect::End(Ending::Report(r)) => format!("{name} ends ({})", self.report(s, r)),
+            Effect::End(Ending::Interrupted) => format!("{name} ends (INTERRUPTED or TIMEOUT)"),
+            Effect::Goto(q) => {
+                let at = position_text(self.c, self.machine(s).positions[usize::from(q)]);
+                format!("{name} {at}")
             }
-            Effect::Goto(q) => format!(
-                "; {}",
-                position_text(self.c, self.machine(s).positions[usize::from(q)])
-            ),
         };
         match outcome {
-            Some(o) => format!("{what} ends with {}{ends}", self.outcome(s, o)),
-            None => format!("{what} ends, interrupted{ends}"),
+            Some(o) => format!("{what} ends with {} -> {ends}", self.outcome(s, o)),
+            None => format!("{what} ends, interrupted -> {ends}"),
         }
     }
 

@@ -2,6 +2,7 @@
 
 mod check;
 mod explain;
+mod generate;
 
 use crate::cli::{Cli, Command};
 
@@ -17,6 +18,7 @@ pub fn run(cli: Cli) -> u8 {
     match cli.command {
         Some(Command::Check(args)) => check::run(&args, &cli.output),
         Some(Command::Explain(args)) => explain::run(&args),
+        Some(Command::Generate(args)) => generate::run(&args),
         None => check::run(&cli.check, &cli.output),
     }
 }

@@ -33,10 +33,7 @@ exclusive with `forbids` instead."#;
 
 /// A deadlock among `services`, with the `delays` entries of the cycle.
 pub fn deadlock(c: &Component, services: &[ServiceId], trace: Trace) -> Diagnostic {
-    let names: Vec<String> = services
-        .iter()
-        .map(|&s| format!("`{}`", c.services[s].name.name))
-        .collect();
+    let names = crate::engine::analysis::names(c, services);
     let first = services
         .first()
         .map_or_else(Default::default, |&s| c.services[s].name.span);
@@ -44,7 +41,7 @@ pub fn deadlock(c: &Component, services: &[ServiceId], trace: Trace) -> Diagnost
         Code::Deadlock,
         format!(
             "deadlock: {} can be pending and wait on each other forever",
-            names.join(" and ")
+            names
         ),
         first,
         "pending, delayed by the others",

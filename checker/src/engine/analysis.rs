@@ -120,7 +120,7 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
         Some(false) => {}
         None => out.unproven.extend(all.iter().copied()),
     }
-    dead_services(c, &b, &global, &prefix, post_init, &mut out);
+    dead_services(c, &global, &prefix, post_init, &mut out);
     out
 }
 
@@ -362,7 +362,8 @@ fn violation(text: String) -> TraceStep {
     TraceStep::new(Event::Violation, text)
 }
 
-fn names(c: &Component, services: &[ServiceId]) -> String {
+/// "`a`", "`a` and `b`", "`a`, `b` and `c`".
+pub(crate) fn names(c: &Component, services: &[ServiceId]) -> String {
     let list: Vec<String> = services
         .iter()
         .map(|&s| format!("`{}`", c.services[s].name.name))
@@ -489,7 +490,6 @@ fn local_path(sys: &System<'_>, i: usize, from: PosId, to: PosId) -> Option<Vec<
 /// finished.
 fn dead_services(
     c: &Component,
-    b: &Behaviour,
     global: &System<'_>,
     prefix: &[Action],
     post_init: Option<bool>,
@@ -510,7 +510,7 @@ fn dead_services(
                 replay(global, path, None, violation(reason)),
             )
         } else {
-            let reason = reject_reason(c, b, global, prefix, s, post_init == Some(true));
+            let (code, reason) = reject_reason(c, global, prefix, s, post_init == Some(true));
             let mut trace = replay(
                 global,
                 prefix,
@@ -518,11 +518,13 @@ fn dead_services(
                 violation(format!("`{name}` never starts")),
             );
             let at = trace.steps.len().saturating_sub(1);
+            let span = Some(c.services[s].name.span);
             let mut req = TraceStep::new(Event::Request, format!("a client requests `{name}`"));
-            req.service = Some(name.clone());
+            (req.service, req.span, req.thread) = (Some(name.clone()), span, Some("control".to_owned()));
             let mut rej =
                 TraceStep::new(Event::Reject, format!("the request is rejected: {reason}"));
-            rej.service = Some(name.clone());
+            (rej.service, rej.span, rej.outcome) = (Some(name.clone()), span, code.map(str::to_owned));
+            rej.thread = Some("control".to_owned());
             trace.steps.splice(at..at, [req, rej]);
             (reason, trace)
         };
@@ -535,19 +537,18 @@ fn dead_services(
 }
 
 /// Why a request for `s` is rejected right after initialisation.
+/// Returns the reject reason (the reply) and a sentence.
 fn reject_reason(
     c: &Component,
-    _b: &Behaviour,
     global: &System<'_>,
     prefix: &[Action],
     s: ServiceId,
     initialised: bool,
-) -> String {
+) -> (Option<&'static str>, String) {
     if !initialised {
-        let init = c
-            .init_service()
-            .map_or("init", |i| c.services[i].name.name.as_str());
-        return format!("NOT_INITIALIZED, because `{init}` can never complete successfully");
+        let init = c.init_service().map_or("init", |i| c.services[i].name.name.as_str());
+        let text = format!("NOT_INITIALIZED, because `{init}` can never complete successfully");
+        return (Some("NOT_INITIALIZED"), text);
     }
     let mut cfg = global.initial(false, &mut None);
     for &a in prefix {
@@ -563,8 +564,8 @@ fn reject_reason(
                 .is_some_and(|j| cfg.main[j] != IDLE || cfg.pending[j].is_some())
     });
     match forbidder {
-        Some((_, t)) => format!("FORBIDDEN by `{}`, which runs forever", t.name.name),
-        None => "every request is rejected".to_owned(),
+        Some((_, t)) => (Some("FORBIDDEN"), format!("FORBIDDEN by `{}`, which runs forever", t.name.name)),
+        None => (None, "every request is rejected".to_owned()),
     }
 }
 

@@ -10,7 +10,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::store::{StateId, Store};
+use super::store::{StateId, Store, Subsumes};
 
 /// A transition system to explore.
 pub trait Model {
@@ -18,6 +18,9 @@ pub trait Model {
     type State;
     /// An action (transition label); small and copyable.
     type Action: Copy + std::fmt::Debug;
+    /// The symbolic part of a state stored beside its words (`()` when
+    /// untimed, a clock zone when timed).
+    type Zone: Subsumes;
 
     /// Words per encoded state.
     fn width(&self) -> usize;
@@ -30,7 +33,9 @@ pub trait Model {
     /// Packs a state into `width()` words.
     fn encode(&self, state: &Self::State, out: &mut Vec<u64>);
     /// Unpacks a state.
-    fn decode(&self, words: &[u64]) -> Self::State;
+    fn decode(&self, words: &[u64], zone: &Self::Zone) -> Self::State;
+    /// The zone of a state.
+    fn zone(&self, state: &Self::State) -> Self::Zone;
     /// Whether to expand the successors of a state (default: all).
     fn expand(&self, _state: &Self::State) -> bool {
         true
@@ -71,9 +76,9 @@ pub enum Stop {
 
 /// The result of an exploration.
 #[derive(Debug)]
-pub struct Exploration<A> {
+pub struct Exploration<A, Z = ()> {
     /// Every reached state, with parent links.
-    pub store: Store<A>,
+    pub store: Store<A, Z>,
     /// Transitions fired (including those to known states).
     pub transitions: u64,
     /// `None` when the whole reachable state space was explored.
@@ -87,14 +92,14 @@ pub fn explore<M: Model>(
     model: &M,
     limits: Limits,
     mut visit: impl FnMut(StateId, &M::State),
-) -> Exploration<M::Action> {
+) -> Exploration<M::Action, M::Zone> {
     let started = Instant::now();
     let mut store = Store::new(model.width());
     let mut key = Vec::with_capacity(model.width());
     for s in model.init_states() {
         key.clear();
         model.encode(&s, &mut key);
-        let (id, new) = store.insert(&key, None);
+        let (id, new) = store.insert(&key, model.zone(&s), None);
         if new {
             visit(id, &s);
         }
@@ -110,7 +115,7 @@ pub fn explore<M: Model>(
         }
         let id = StateId::try_from(next).unwrap_or(StateId::MAX);
         next += 1;
-        let state = model.decode(store.get(id));
+        let state = model.decode(store.get(id), store.zone(id));
         if !model.expand(&state) {
             continue;
         }
@@ -123,7 +128,7 @@ pub fn explore<M: Model>(
             transitions += 1;
             key.clear();
             model.encode(&succ, &mut key);
-            let (sid, new) = store.insert(&key, Some((id, a)));
+            let (sid, new) = store.insert(&key, model.zone(&succ), Some((id, a)));
             if new {
                 visit(sid, &succ);
             }
@@ -139,7 +144,7 @@ pub fn explore<M: Model>(
 
 /// The state limit is checked before every expansion; time and memory
 /// every 1024 expansions.
-fn check_limits<A: Copy>(store: &Store<A>, limits: Limits, expanded: usize) -> Option<Stop> {
+fn check_limits<A: Copy, Z: Subsumes>(store: &Store<A, Z>, limits: Limits, expanded: usize) -> Option<Stop> {
     if store.len() >= limits.max_states {
         return Some(Stop::States);
     }
@@ -162,6 +167,7 @@ mod tests {
     impl Model for Counters {
         type State = (u64, u64);
         type Action = bool;
+        type Zone = ();
         fn width(&self) -> usize {
             2
         }
@@ -181,9 +187,10 @@ mod tests {
         fn encode(&self, s: &(u64, u64), out: &mut Vec<u64>) {
             out.extend([s.0, s.1]);
         }
-        fn decode(&self, w: &[u64]) -> (u64, u64) {
+        fn decode(&self, w: &[u64], (): &()) -> (u64, u64) {
             (w[0], w[1])
         }
+        fn zone(&self, _: &(u64, u64)) {}
     }
 
     #[test]

@@ -14,6 +14,7 @@
 
 pub mod analysis;
 pub mod explore;
+pub mod petri_check;
 pub mod store;
 pub mod system;
 

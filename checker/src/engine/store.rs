@@ -2,6 +2,11 @@
 //! 64-bit words in one arena, deduplicated by a hash table of `u32` indices
 //! (no per-state allocation), with the parent and the action that first
 //! reached it, so that counterexamples are replayable paths.
+//!
+//! A state may also carry a *zone* (the timed engine's clock zone): states
+//! with the same words are chained, and a new state whose zone is included
+//! in a stored one is not new (inclusion checking in the passed list). For
+//! untimed models the zone is `()` and every same-words state subsumes.
 
 use std::hash::BuildHasher;
 
@@ -11,17 +16,36 @@ use rustc_hash::FxBuildHasher;
 /// Index of a stored state.
 pub type StateId = u32;
 
+/// The symbolic part of a state: `a.subsumed_by(b)` when every concrete
+/// state of `a` is one of `b` (zone inclusion).
+pub trait Subsumes {
+    /// Whether `self` is included in `other`.
+    fn subsumed_by(&self, other: &Self) -> bool;
+}
+
+impl Subsumes for () {
+    fn subsumed_by(&self, _: &()) -> bool {
+        true
+    }
+}
+
+/// End of a same-words chain.
+const NONE: StateId = StateId::MAX;
+
 /// The stored states of one exploration.
-pub struct Store<A> {
+pub struct Store<A, Z = ()> {
     width: usize,
     words: Vec<u64>,
+    zones: Vec<Z>,
+    /// The previous state with the same words.
+    same: Vec<StateId>,
     table: HashTable<StateId>,
     parents: Vec<StateId>,
     via: Vec<Option<A>>,
     hasher: FxBuildHasher,
 }
 
-impl<A> std::fmt::Debug for Store<A> {
+impl<A, Z> std::fmt::Debug for Store<A, Z> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Store")
             .field("states", &self.parents.len())
@@ -30,12 +54,14 @@ impl<A> std::fmt::Debug for Store<A> {
     }
 }
 
-impl<A: Copy> Store<A> {
+impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// An empty store of states `width` words wide.
     pub fn new(width: usize) -> Self {
         Store {
             width: width.max(1),
             words: Vec::new(),
+            zones: Vec::new(),
+            same: Vec::new(),
             table: HashTable::new(),
             parents: Vec::new(),
             via: Vec::new(),
@@ -53,22 +79,43 @@ impl<A: Copy> Store<A> {
         &self.words[start..start + self.width]
     }
 
+    /// The zone of state `id`.
+    pub fn zone(&self, id: StateId) -> &Z {
+        &self.zones[id as usize]
+    }
+
     /// Inserts a state reached from `parent` by `via`; returns its id and
-    /// whether it is new.
-    pub fn insert(&mut self, key: &[u64], parent: Option<(StateId, A)>) -> (StateId, bool) {
+    /// whether it is new (not subsumed by a stored state with the same words).
+    pub fn insert(&mut self, key: &[u64], zone: Z, parent: Option<(StateId, A)>) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
         let hash = self.hash(key);
         let (words, width) = (&self.words, self.width);
         let eq = |&id: &StateId| words[id as usize * width..(id as usize + 1) * width] == *key;
-        if let Some(&id) = self.table.find(hash, eq) {
-            return (id, false);
+        let head = self.table.find(hash, eq).copied();
+        let mut cur = head.unwrap_or(NONE);
+        while cur != NONE {
+            if zone.subsumed_by(&self.zones[cur as usize]) {
+                return (cur, false);
+            }
+            cur = self.same[cur as usize];
         }
         let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
         self.words.extend_from_slice(key);
-        let (words, width, hasher) = (&self.words, self.width, &self.hasher);
-        self.table.insert_unique(hash, id, |&other| {
-            hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width])
-        });
+        self.zones.push(zone);
+        self.same.push(head.unwrap_or(NONE));
+        match head {
+            Some(_) => {
+                if let Some(entry) = self.table.find_mut(hash, |&other| other == head.unwrap_or(NONE)) {
+                    *entry = id;
+                }
+            }
+            None => {
+                let (words, width, hasher) = (&self.words, self.width, &self.hasher);
+                self.table.insert_unique(hash, id, |&other| {
+                    hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width])
+                });
+            }
+        }
         self.parents.push(parent.map_or(id, |(p, _)| p));
         self.via.push(parent.map(|(_, a)| a));
         (id, true)
@@ -119,8 +166,9 @@ impl<A: Copy> Store<A> {
     pub fn bytes(&self) -> usize {
         self.words.capacity() * 8
             + self.table.capacity() * (size_of::<StateId>() + 1)
-            + self.parents.capacity() * size_of::<StateId>()
+            + (self.parents.capacity() + self.same.capacity()) * size_of::<StateId>()
             + self.via.capacity() * size_of::<Option<A>>()
+            + self.zones.capacity() * size_of::<Z>()
     }
 }
 
@@ -131,10 +179,10 @@ mod tests {
     #[test]
     fn states_are_deduplicated_and_paths_replayable() {
         let mut s: Store<char> = Store::new(2);
-        let (a, new_a) = s.insert(&[1, 2], None);
-        let (b, new_b) = s.insert(&[3, 4], Some((a, 'x')));
-        let (c, _) = s.insert(&[5, 6], Some((b, 'y')));
-        let (a2, again) = s.insert(&[1, 2], Some((c, 'z')));
+        let (a, new_a) = s.insert(&[1, 2], (), None);
+        let (b, new_b) = s.insert(&[3, 4], (), Some((a, 'x')));
+        let (c, _) = s.insert(&[5, 6], (), Some((b, 'y')));
+        let (a2, again) = s.insert(&[1, 2], (), Some((c, 'z')));
         assert!(new_a && new_b && !again);
         assert_eq!(a2, a);
         assert_eq!(s.len(), 3);
@@ -142,5 +190,25 @@ mod tests {
         assert_eq!(s.path(c), vec!['x', 'y']);
         assert_eq!(s.root(c), a);
         assert!(s.bytes_per_state() > 0.0);
+    }
+
+    /// Intervals ordered by inclusion, standing in for zones.
+    impl Subsumes for (u32, u32) {
+        fn subsumed_by(&self, other: &Self) -> bool {
+            other.0 <= self.0 && self.1 <= other.1
+        }
+    }
+
+    #[test]
+    fn included_zones_are_not_new_and_larger_ones_are() {
+        let mut s: Store<char, (u32, u32)> = Store::new(1);
+        let (a, _) = s.insert(&[7], (2, 5), None);
+        assert_eq!(s.insert(&[7], (3, 4), Some((a, 'x'))), (a, false));
+        let (b, new) = s.insert(&[7], (1, 9), Some((a, 'y')));
+        assert!(new);
+        // Both are kept; a zone included in the newer one is not new either.
+        assert!(!s.insert(&[7], (6, 8), Some((b, 'z'))).1);
+        assert!(s.insert(&[8], (3, 4), None).1);
+        assert_eq!(*s.zone(b), (1, 9));
     }
 }

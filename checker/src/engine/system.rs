@@ -29,6 +29,9 @@ pub struct Config {
     /// Each member's pending instance: the bits of the `stops` targets it
     /// still waits for.
     pub pending: Vec<Option<u64>>,
+    /// Whether each member's main instance was interrupted by its max-time
+    /// watchdog (it then replies `TIMEOUT` rather than `INTERRUPTED`).
+    pub timed_out: Vec<bool>,
 }
 
 /// A transition.
@@ -75,6 +78,8 @@ struct Member {
     /// Bits for its position, and whether it has a pending slot.
     pos_bits: u32,
     can_pend: bool,
+    /// Has a max-time watchdog (one bit of `timed_out` is stored).
+    watchdog: bool,
 }
 
 /// The member services and their rules.
@@ -158,6 +163,7 @@ impl<'a> System<'a> {
             init_done: init_done || self.init.is_none(),
             main: vec![IDLE; n],
             pending: vec![None; n],
+            timed_out: vec![false; n],
         };
         if cfg.init_done {
             self.start_autos(&mut cfg, events);
@@ -344,7 +350,10 @@ impl<'a> System<'a> {
             format!("{who} `{}`{place}", self.name(s)),
         );
         match effect {
-            Effect::Goto(q) => cfg.main[t] = q,
+            Effect::Goto(q) => {
+                cfg.main[t] = q;
+                cfg.timed_out[t] |= watchdog;
+            }
             Effect::End(ending) => self.end(cfg, t, ending, watchdog, ev),
         }
     }
@@ -395,7 +404,7 @@ impl<'a> System<'a> {
         self.emit(ev, Event::CodelEnd, s, Some(codel), outcome, text);
         match f.effect {
             Effect::Goto(q) => cfg.main[i] = q,
-            Effect::End(ending) => self.end(cfg, i, ending, false, ev),
+            Effect::End(ending) => self.end(cfg, i, ending, cfg.timed_out[i], ev),
         }
         Some(())
     }
@@ -431,6 +440,7 @@ impl<'a> System<'a> {
         ev: &mut Option<&mut Vec<TraceStep>>,
     ) {
         cfg.main[i] = IDLE;
+        cfg.timed_out[i] = false;
         let s = self.members[i].service;
         let reply = match ending {
             Ending::Success => "end".to_owned(),
@@ -443,15 +453,19 @@ impl<'a> System<'a> {
         };
         self.emit_reply(ev, s, &reply);
         for (k, m) in self.members.iter().enumerate() {
-            if let (Some(mask), Some(bit)) = (cfg.pending[k], m.stops.iter().position(|&t| t == i))
-            {
-                cfg.pending[k] = Some(mask & !(1 << bit));
+            if let Some(mask) = cfg.pending[k] {
+                let ended: u64 =
+                    m.stops.iter().enumerate().filter(|&(_, &t)| t == i).map(|(bit, _)| 1 << bit).sum();
+                cfg.pending[k] = Some(mask & !ended);
             }
         }
         if ending == Ending::Success && !cfg.init_done && self.init == Some(s) {
             cfg.init_done = true;
-            let text = format!("initialisation completes (`{}` succeeded)", self.name(s));
-            self.emit(ev, Event::Reply, s, None, None, text);
+            // Not a second reply: the success reply just emitted completes
+            // initialisation.
+            if let Some(last) = ev.as_deref_mut().and_then(|sink| sink.last_mut()) {
+                last.text.push_str("; initialisation completes");
+            }
             self.start_autos(cfg, ev);
         }
     }
@@ -617,7 +631,12 @@ fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
 fn member(c: &Component, b: &Behaviour, index: &[Option<usize>], s: ServiceId) -> Member {
     let svc = &c.services[s];
     let idx = |t: ServiceId| index.get(t.0 as usize).copied().flatten();
-    let stops: Vec<usize> = svc.stops.iter().filter_map(|r| idx(r.id)).collect();
+    let mut stops: Vec<usize> = Vec::new();
+    for t in svc.stops.iter().filter_map(|r| idx(r.id)) {
+        if !stops.contains(&t) {
+            stops.push(t);
+        }
+    }
     let others = |rule: fn(
         &genom_model::component::Service,
     ) -> &Vec<genom_model::component::Ref<ServiceId>>| {
@@ -645,6 +664,7 @@ fn member(c: &Component, b: &Behaviour, index: &[Option<usize>], s: ServiceId) -
         control,
         pos_bits,
         can_pend,
+        watchdog: svc.max_time.is_some(),
     }
 }
 
@@ -658,6 +678,7 @@ fn width(members: &[Member]) -> usize {
             fields.push(1);
             fields.push(stop_bits(m));
         }
+        fields.push(u32::from(m.watchdog));
     }
     let (mut words, mut used) = (0, 64);
     for bits in fields.into_iter().filter(|&b| b > 0) {
@@ -725,6 +746,7 @@ impl BitReader<'_> {
 
 impl Model for System<'_> {
     type State = Config;
+    type Zone = ();
     type Action = Action;
 
     fn width(&self) -> usize {
@@ -772,11 +794,14 @@ impl Model for System<'_> {
                 w.put(u64::from(cfg.pending[i].is_some()), 1);
                 w.put(cfg.pending[i].unwrap_or(0), stop_bits(m));
             }
+            w.put(u64::from(cfg.timed_out[i]), u32::from(m.watchdog));
         }
         out.resize(start + self.width, 0);
     }
 
-    fn decode(&self, words: &[u64]) -> Config {
+    fn zone(&self, _: &Config) {}
+
+    fn decode(&self, words: &[u64], (): &()) -> Config {
         let mut r = BitReader {
             words,
             word: 0,
@@ -789,6 +814,7 @@ impl Model for System<'_> {
             init_done,
             main: Vec::with_capacity(n),
             pending: Vec::with_capacity(n),
+            timed_out: Vec::with_capacity(n),
         };
         for m in &self.members {
             cfg.main
@@ -796,6 +822,7 @@ impl Model for System<'_> {
             let pending = m.can_pend && r.get(1) == 1;
             let mask = if m.can_pend { r.get(stop_bits(m)) } else { 0 };
             cfg.pending.push(pending.then_some(mask));
+            cfg.timed_out.push(m.watchdog && r.get(1) == 1);
         }
         cfg
     }
