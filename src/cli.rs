@@ -159,6 +159,10 @@ pub struct GenerateArgs {
     /// Probability of an extra loop edge per codel.
     #[arg(long, value_name = "P", default_value_t = 0.3)]
     pub loops: f64,
+
+    /// Probability that a service also stops itself (on top of --density).
+    #[arg(long, value_name = "P", default_value_t = 0.0)]
+    pub self_stops: f64,
 }
 
 /// Output options.

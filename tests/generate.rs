@@ -101,7 +101,7 @@ fn bad_generator_arguments_are_usage_errors() {
 #[test]
 fn generated_components_check_with_behavioural_verdicts_only() {
     let dir = tempfile::tempdir().expect("temporary directory");
-    let cases: [&[&str]; 6] = [
+    let cases: [&[&str]; 7] = [
         &["--services", "5", "--codels", "3"],
         &[
             "--services",

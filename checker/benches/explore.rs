@@ -1,7 +1,8 @@
 //! The whole check (parse, resolve, static checks, behavioural
 //! exploration) of generated components of growing size, services × codels
-//! × threads, with a realistic rule density (about one `stops`/`delays`/
-//! `forbids` reference per service) and a dense one (three).
+//! × threads, with a sparse rule density (0.3 `stops`/`delays`/`forbids`
+//! references per service), a realistic one (about one) and a dense one
+//! (three).
 //!
 //! `cargo bench -p genom-checker --bench explore -- --warm-up-time 1 --measurement-time 5`
 //!
@@ -26,13 +27,14 @@ use genom_model::component::Component;
 use genom_parser::MemoryLoader;
 
 /// Cap on the states of one check.
-const MAX_STATES: usize = 2_000_000;
+const MAX_STATES: usize = 1_000_000;
 
 /// Services, codels per service, threads.
 const SIZES: [(usize, usize, usize); 4] = [(5, 3, 1), (10, 5, 2), (20, 5, 3), (30, 5, 4)];
 
-/// Rule densities: realistic and dense.
-const DENSITIES: [(&str, f64); 2] = [("realistic", 1.0), ("dense", 3.0)];
+/// Rule densities: sparse (clusters of a few services, explorations that
+/// finish), realistic and dense.
+const DENSITIES: [(&str, f64); 3] = [("sparse", 0.3), ("realistic", 1.0), ("dense", 3.0)];
 
 fn config(services: usize, codels: usize, threads: usize, density: f64) -> GeneratorConfig {
     GeneratorConfig {

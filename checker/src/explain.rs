@@ -60,7 +60,12 @@ fn body(code: Code) -> &'static str {
         Code::DeadService => dead_service::EXPLANATION,
         Code::UnboundedInterrupt => unbounded_interrupt::EXPLANATION,
         Code::Incomplete => incomplete::EXPLANATION,
-        _ => "",
+        Code::CodelOverrun => codel_overrun::EXPLANATION,
+        Code::ThreadOverrun => thread_overrun::EXPLANATION,
+        Code::MaxTimeInfeasible => max_time::EXPLANATION_INFEASIBLE,
+        Code::MaxTimeExceeded => max_time::EXPLANATION_EXCEEDED,
+        Code::MaxTimeWatchdog => max_time::EXPLANATION_WATCHDOG,
+        Code::MissingWcet => missing_wcet::EXPLANATION,
     }
 }
 

@@ -94,6 +94,10 @@ pub struct GeneratorConfig {
     pub ids_blocks: usize,
     /// Number of export items (0: none).
     pub exports: usize,
+    /// Probability that an ordinary or `init` service also lists itself in
+    /// `stops` (a new request replaces the running one, as in most motion
+    /// services), on top of `rule_density`.
+    pub self_stops: f64,
 }
 
 impl GeneratorConfig {
@@ -114,12 +118,13 @@ impl GeneratorConfig {
             loops: 0.3,
             ids_blocks: 0,
             exports: 1,
+            self_stops: 0.0,
         }
     }
 
     /// A random small configuration derived from `seed` alone (1–6
     /// services, 1–4 codels, 1–3 threads, density 0–3, init, autos,
-    /// setters and timing at random): the same space as [`strategy`], for
+    /// setters, self-stops and timing at random): the same space as [`strategy`], for
     /// users outside this crate's tests.
     pub fn small(seed: u64) -> Self {
         let mut r = SplitMix::new(seed ^ 0x5EED_5EED_5EED_5EED);
@@ -138,6 +143,7 @@ impl GeneratorConfig {
             loops: if r.chance(0.5) { 0.3 } else { 0.0 },
             ids_blocks: r.below(3),
             exports: r.below(3),
+            self_stops: if r.chance(0.5) { 0.5 } else { 0.0 },
         }
     }
 }
@@ -449,6 +455,18 @@ impl<'c> Generator<'c> {
                     0 | 1 => plan.stops.push(t),
                     2 => plan.delays.push(t),
                     _ => plan.forbids.push(t),
+                }
+            }
+        }
+        // Drawn only when asked, so that other configurations keep their text.
+        if self.cfg.self_stops > 0.0 {
+            for s in 0..n {
+                let eligible = matches!(self.services[s].kind, Kind::Init | Kind::Plain);
+                if eligible
+                    && self.r.chance(self.cfg.self_stops)
+                    && !self.services[s].stops.contains(&s)
+                {
+                    self.services[s].stops.insert(0, s);
                 }
             }
         }
@@ -869,7 +887,7 @@ pub fn strategy() -> impl proptest::strategy::Strategy<Value = GeneratorConfig> 
         prop::bool::weighted(0.2),
         prop_oneof![Just(0.0), Just(0.3)],
         prop_oneof![Just(0.0), Just(0.3), Just(0.6)],
-        (0usize..=2, 0usize..=2),
+        (0usize..=2, 0usize..=2, prop_oneof![Just(0.0), Just(0.5)]),
     )
         .prop_map(
             |(
@@ -884,7 +902,7 @@ pub fn strategy() -> impl proptest::strategy::Strategy<Value = GeneratorConfig> 
                 auto_rules,
                 setters,
                 loops,
-                (ids, exports),
+                (ids, exports, self_stops),
             )| {
                 GeneratorConfig {
                     seed,
@@ -900,6 +918,7 @@ pub fn strategy() -> impl proptest::strategy::Strategy<Value = GeneratorConfig> 
                     loops,
                     ids_blocks: ids,
                     exports,
+                    self_stops,
                 }
             },
         )
@@ -917,7 +936,10 @@ mod tests {
     use crate::{CheckOptions, CheckResult, check_source};
 
     fn check(text: &str, behaviour: bool) -> CheckResult {
-        let options = CheckOptions::new().behaviour(behaviour).max_states(20_000);
+        let options = CheckOptions::new()
+            .behaviour(behaviour)
+            .max_states(20_000)
+            .timeout(Some(std::time::Duration::from_secs(2)));
         check_source(
             Path::new("gen.gen"),
             text.to_owned(),

@@ -13,6 +13,7 @@ pub mod replay;
 pub mod resolve;
 #[cfg(test)]
 pub mod testing;
+pub mod timed;
 pub mod zones;
 
 pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};

@@ -125,7 +125,13 @@ pub fn check_source(
     let clean = !diagnostics.iter().any(|d| d.severity == Severity::Error);
     let mut statistics = None;
     if let (Some(c), true, true) = (&component, clean, options.behaviour) {
-        let analysis = analyse(c, options.limits(started));
+        let analysis = if crate::timed::gives_timing(c) {
+            let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
+            diagnostics.extend(crate::checks::timing(c, &facts));
+            analysis
+        } else {
+            analyse(c, options.limits(started))
+        };
         diagnostics.extend(crate::checks::behaviour(c, &analysis));
         statistics = Some(Statistics {
             states: analysis.states,

@@ -155,6 +155,9 @@ pub struct ServiceMachine {
     /// Interrupted positions from which the inter codels can loop forever
     /// (for `unbounded-interrupt`).
     pub stop_loops: Vec<bool>,
+    /// The active codels can loop forever from the start codel (an
+    /// unbounded loop: only a watchdog can bound such a service).
+    pub active_loop: bool,
 }
 
 impl ServiceMachine {
@@ -195,9 +198,12 @@ impl ServiceMachine {
             interrupt,
             may_never_end: Vec::new(),
             stop_loops: Vec::new(),
+            active_loop: false,
         };
         m.stop_loops = m.loops(|p| p.is_interrupted());
         m.may_never_end = m.never_ending();
+        let active = m.loops(|p| p != Position::Idle && !p.is_interrupted());
+        m.active_loop = m.start.is_some_and(|p| active[usize::from(p)]);
         m
     }
 

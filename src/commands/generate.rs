@@ -36,6 +36,7 @@ pub fn run(args: &GenerateArgs) -> u8 {
         auto_rules: args.auto_rules,
         setters: args.setters,
         loops: args.loops,
+        self_stops: args.self_stops,
         ..GeneratorConfig::new(args.seed, size(args.services))
     };
     crate::terminal::emit(&generate(&config));

@@ -5,19 +5,23 @@
 //! ([`behaviour`]) read the explorer's [`Analysis`].
 
 pub mod auto_terminates;
+pub mod codel_overrun;
 pub mod codel_transitions;
 pub mod dead_service;
 pub mod deadlock;
 pub mod duplicate_definition;
 pub mod incomplete;
 pub mod invalid_attribute;
+pub mod max_time;
 pub mod missing_component;
 pub mod missing_on_inter;
+pub mod missing_wcet;
 pub mod no_termination;
 pub mod privilege_escalation;
 pub mod prototype_mismatch;
 pub mod service_structure;
 pub mod starvation;
+pub mod thread_overrun;
 pub mod type_mismatch;
 pub mod unbounded_interrupt;
 pub mod unknown_name;
@@ -29,6 +33,7 @@ use genom_model::Diagnostic;
 use genom_model::component::Component;
 
 use crate::engine::Analysis;
+use crate::timed::TimedFacts;
 
 /// Runs every check on the resolved model.
 pub fn run(component: &Component) -> Vec<Diagnostic> {
@@ -41,6 +46,8 @@ pub fn run(component: &Component) -> Vec<Diagnostic> {
     out.extend(unused_report::check(component));
     out.extend(missing_on_inter::check(component));
     out.extend(privilege_escalation::check(component));
+    out.extend(codel_overrun::check(component));
+    out.extend(missing_wcet::check(component));
     out
 }
 
@@ -53,5 +60,12 @@ pub fn behaviour(component: &Component, analysis: &Analysis) -> Vec<Diagnostic> 
     out.extend(unbounded_interrupt::check(component, analysis));
     out.extend(unreachable_codel::dynamic(component, analysis));
     out.extend(incomplete::check(component, analysis));
+    out
+}
+
+/// The timing verdicts of the timed explorations.
+pub fn timing(component: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
+    let mut out = thread_overrun::check(component, facts);
+    out.extend(max_time::check(component, facts));
     out
 }

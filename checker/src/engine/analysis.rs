@@ -84,20 +84,32 @@ pub struct Analysis {
     pub elapsed: Duration,
     /// Bytes per stored state (largest exploration).
     pub bytes_per_state: f64,
-    /// For each service, the path to the first state where it is pending.
-    pending_paths: BTreeMap<ServiceId, Vec<Action>>,
+    /// Services not started in their exploration, with why and a trace
+    /// (they are dead unless another exploration starts them).
+    dead_candidates: BTreeMap<ServiceId, Blocked>,
 }
 
 /// Witnesses found in one exploration, by state id.
 #[derive(Default)]
-struct Found {
-    reached: BTreeSet<CodelId>,
-    started: BTreeSet<ServiceId>,
-    deadlocks: BTreeMap<Vec<ServiceId>, StateId>,
-    starvations: BTreeMap<(ServiceId, ServiceId), (StateId, bool)>,
-    unbounded: BTreeMap<ServiceId, StateId>,
-    pending: BTreeMap<ServiceId, StateId>,
-    init_success: Option<StateId>,
+pub(crate) struct Found {
+    pub(crate) reached: BTreeSet<CodelId>,
+    pub(crate) started: BTreeSet<ServiceId>,
+    pub(crate) deadlocks: BTreeMap<Vec<ServiceId>, StateId>,
+    pub(crate) starvations: BTreeMap<(ServiceId, ServiceId), (StateId, bool)>,
+    pub(crate) unbounded: BTreeMap<ServiceId, StateId>,
+    pub(crate) pending: BTreeMap<ServiceId, StateId>,
+    pub(crate) init_success: Option<StateId>,
+    pub(crate) root: Option<StateId>,
+}
+
+/// How to turn the witnesses of one exploration into traces: the
+/// exploration's untimed system, the configuration of a state, and the trace
+/// to a state (with, optionally, a service whose loop ends it, and the last
+/// step).
+pub(crate) struct Witnesses<'w> {
+    pub(crate) sys: &'w System<'w>,
+    pub(crate) config: &'w dyn Fn(StateId) -> Config,
+    pub(crate) trace: &'w dyn Fn(StateId, Option<ServiceId>, TraceStep) -> Trace,
 }
 
 /// Explores the component and gathers every behavioural fact.
@@ -120,7 +132,7 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
         Some(false) => {}
         None => out.unproven.extend(all.iter().copied()),
     }
-    dead_services(c, &global, &prefix, post_init, &mut out);
+    dead_services(c, &global, post_init, &mut out);
     out
 }
 
@@ -137,8 +149,7 @@ fn pre_init(
     let sys = System::new(c, b, &[init], true);
     let mut found = Found::default();
     let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
-    account(
-        out,
+    out.account(
         budget,
         e.store.len(),
         e.transitions,
@@ -150,8 +161,19 @@ fn pre_init(
         .init_success
         .map(|id| e.store.path(id))
         .unwrap_or_default();
-    let path = |id: StateId| e.store.path(id);
-    collect(global, &found, &[], &path, out);
+    let config = |id: StateId| e.store_config(&sys, id);
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        replay(global, &e.store.path(id), looping, last)
+    };
+    collect(
+        &Witnesses {
+            sys: &sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
     let complete = e.stopped.is_none();
     if !complete {
         out.unproven.insert(init);
@@ -181,8 +203,7 @@ fn explore_cluster(
     }
     let mut found = Found::default();
     let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
-    account(
-        out,
+    out.account(
         budget,
         e.store.len(),
         e.transitions,
@@ -193,32 +214,49 @@ fn explore_cluster(
     if e.stopped.is_some() {
         out.unproven.extend(cluster.iter().copied());
     }
-    let path = |id: StateId| e.store.path(id);
-    collect(global, &found, prefix, &path, out);
+    let config = |id: StateId| e.store_config(&sys, id);
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        let full: Vec<Action> = prefix.iter().copied().chain(e.store.path(id)).collect();
+        replay(global, &full, looping, last)
+    };
+    collect(
+        &Witnesses {
+            sys: &sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
 }
 
-fn account(
-    out: &mut Analysis,
-    budget: &mut Limits,
-    states: usize,
-    transitions: u64,
-    elapsed: Duration,
-    bps: f64,
-    stopped: Option<Stop>,
-) {
-    out.states += states as u64;
-    out.transitions += transitions;
-    out.elapsed += elapsed;
-    out.bytes_per_state = out.bytes_per_state.max(bps);
-    budget.max_states = budget.max_states.saturating_sub(states).max(1);
-    if stopped.is_some() {
-        out.stopped = out.stopped.or(stopped);
+impl Analysis {
+    /// Adds the figures of one exploration and charges its states to the
+    /// remaining budget.
+    pub(crate) fn account(
+        &mut self,
+        budget: &mut Limits,
+        states: usize,
+        transitions: u64,
+        elapsed: Duration,
+        bps: f64,
+        stopped: Option<Stop>,
+    ) {
+        self.states += states as u64;
+        self.transitions += transitions;
+        self.elapsed += elapsed;
+        self.bytes_per_state = self.bytes_per_state.max(bps);
+        budget.max_states = budget.max_states.saturating_sub(states).max(1);
+        if stopped.is_some() {
+            self.stopped = self.stopped.or(stopped);
+        }
     }
 }
 
 /// Reads the properties of one new state.
-fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
+pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
     let c = sys.component();
+    found.root.get_or_insert(id);
     if cfg.init_done && found.init_success.is_none() && c.init_service().is_some() {
         found.init_success = Some(id);
     }
@@ -311,33 +349,28 @@ fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
 }
 
 /// Turns the witnesses of one exploration into traces.
-fn collect(
-    global: &System<'_>,
-    found: &Found,
-    prefix: &[Action],
-    path: &dyn Fn(StateId) -> Vec<Action>,
-    out: &mut Analysis,
-) {
-    let c = global.component();
+pub(crate) fn collect(w: &Witnesses<'_>, found: &Found, out: &mut Analysis) {
+    let c = w.sys.component();
     out.reached.extend(found.reached.iter().copied());
     out.started.extend(found.started.iter().copied());
-    let full = |id: StateId| prefix.iter().copied().chain(path(id)).collect::<Vec<_>>();
     for (services, &id) in &found.deadlocks {
-        let names = names(c, services);
-        let text = format!("deadlock: {names} are pending and wait on each other forever");
-        let trace = replay(global, &full(id), None, violation(text));
+        let text = format!(
+            "deadlock: {} are pending and wait on each other forever",
+            names(c, services)
+        );
+        let trace = (w.trace)(id, None, violation(text));
         out.deadlocks.push(Deadlock {
             services: services.clone(),
             trace,
         });
     }
     for (&(waiter, blocker), &(id, via_delays)) in &found.starvations {
-        let (w, b) = (
+        let (wn, bn) = (
             &c.services[waiter].name.name,
             &c.services[blocker].name.name,
         );
-        let text = format!("`{w}` waits for `{b}`, whose instance may never end");
-        let trace = replay(global, &full(id), Some(blocker), violation(text));
+        let text = format!("`{wn}` waits for `{bn}`, whose instance may never end");
+        let trace = (w.trace)(id, Some(blocker), violation(text));
         out.starvations.push(Starvation {
             waiter,
             blocker,
@@ -350,12 +383,65 @@ fn collect(
             "`{}` is interrupted and its inter codels may loop forever",
             c.services[service].name.name
         );
-        let trace = replay(global, &full(id), Some(service), violation(text));
+        let trace = (w.trace)(id, Some(service), violation(text));
         out.unbounded.push(Unbounded { service, trace });
     }
-    for (&s, &id) in &found.pending {
-        out.pending_paths.entry(s).or_insert_with(|| full(id));
+    for s in w.sys.services() {
+        if !found.started.contains(&s) && !out.dead_candidates.contains_key(&s) {
+            if let Some(blocked) = never_started(w, found, s) {
+                out.dead_candidates.insert(s, blocked);
+            }
+        }
     }
+}
+
+/// Why `s` never starts in this exploration, with a trace: it stays
+/// pending, or its requests are rejected once initialisation is done.
+fn never_started(w: &Witnesses<'_>, found: &Found, s: ServiceId) -> Option<Blocked> {
+    let c = w.sys.component();
+    let name = &c.services[s].name.name;
+    if let Some(&id) = found.pending.get(&s) {
+        let reason =
+            format!("`{name}` is acknowledged but never starts: it is always delayed or waiting");
+        let trace = (w.trace)(id, None, violation(reason.clone()));
+        return Some(Blocked {
+            service: s,
+            reason,
+            trace,
+        });
+    }
+    let at = found.init_success.or(found.root)?;
+    let cfg = (w.config)(at);
+    let (code, reason) = reject_reason(w.sys, &cfg, s);
+    let mut trace = (w.trace)(at, None, violation(format!("`{name}` never starts")));
+    splice_rejection(c, &mut trace, s, code, &reason);
+    Some(Blocked {
+        service: s,
+        reason,
+        trace,
+    })
+}
+
+/// Inserts a request of `s` and its rejection before the last step.
+fn splice_rejection(
+    c: &Component,
+    trace: &mut Trace,
+    s: ServiceId,
+    code: Option<&'static str>,
+    reason: &str,
+) {
+    let name = &c.services[s].name.name;
+    let at = trace.steps.len().saturating_sub(1);
+    let time = trace.steps.get(at).and_then(|st| st.time_ns);
+    let span = Some(c.services[s].name.span);
+    let mut req = TraceStep::new(Event::Request, format!("a client requests `{name}`"));
+    (req.service, req.span, req.thread, req.time_ns) =
+        (Some(name.clone()), span, Some("control".to_owned()), time);
+    let mut rej = TraceStep::new(Event::Reject, format!("the request is rejected: {reason}"));
+    (rej.service, rej.span, rej.outcome, rej.time_ns) =
+        (Some(name.clone()), span, code.map(str::to_owned), time);
+    rej.thread = Some("control".to_owned());
+    trace.steps.splice(at..at, [req, rej]);
 }
 
 fn violation(text: String) -> TraceStep {
@@ -486,85 +572,72 @@ fn local_path(sys: &System<'_>, i: usize, from: PosId, to: PosId) -> Option<Vec<
     None
 }
 
+/// Services that never start, after timed explorations (each with the init
+/// service): every candidate not started elsewhere and fully explored.
+pub(crate) fn finish_dead(c: &Component, global: &System<'_>, out: &mut Analysis) {
+    dead_services(c, global, Some(true), out);
+}
+
 /// Services that never start, when the explorations that could start them
-/// finished.
-fn dead_services(
-    c: &Component,
-    global: &System<'_>,
-    prefix: &[Action],
-    post_init: Option<bool>,
-    out: &mut Analysis,
-) {
-    let pending = std::mem::take(&mut out.pending_paths);
+/// finished. When initialisation can never complete, every other service is
+/// dead: its requests are rejected with `NOT_INITIALIZED`.
+fn dead_services(c: &Component, global: &System<'_>, post_init: Option<bool>, out: &mut Analysis) {
+    let mut candidates = std::mem::take(&mut out.dead_candidates);
     for s in c.services.ids() {
         if out.started.contains(&s) || out.unproven.contains(&s) || post_init.is_none() {
             continue;
         }
-        let name = &c.services[s].name.name;
-        let (reason, trace) = if let Some(path) = pending.get(&s) {
-            let reason = format!(
-                "`{name}` is acknowledged but never starts: it is always delayed or waiting"
-            );
-            (
-                reason.clone(),
-                replay(global, path, None, violation(reason)),
-            )
-        } else {
-            let (code, reason) = reject_reason(c, global, prefix, s, post_init == Some(true));
-            let mut trace = replay(
-                global,
-                prefix,
-                None,
-                violation(format!("`{name}` never starts")),
-            );
-            let at = trace.steps.len().saturating_sub(1);
-            let span = Some(c.services[s].name.span);
-            let mut req = TraceStep::new(Event::Request, format!("a client requests `{name}`"));
-            (req.service, req.span, req.thread) = (Some(name.clone()), span, Some("control".to_owned()));
-            let mut rej =
-                TraceStep::new(Event::Reject, format!("the request is rejected: {reason}"));
-            (rej.service, rej.span, rej.outcome) = (Some(name.clone()), span, code.map(str::to_owned));
-            rej.thread = Some("control".to_owned());
-            trace.steps.splice(at..at, [req, rej]);
-            (reason, trace)
+        let blocked = match candidates.remove(&s) {
+            Some(b) => b,
+            None => {
+                let cfg = global.initial(false, &mut None);
+                let (code, reason) = reject_reason(global, &cfg, s);
+                let name = &c.services[s].name.name;
+                let mut trace = replay(
+                    global,
+                    &[],
+                    None,
+                    violation(format!("`{name}` never starts")),
+                );
+                splice_rejection(c, &mut trace, s, code, &reason);
+                Blocked {
+                    service: s,
+                    reason,
+                    trace,
+                }
+            }
         };
-        out.dead.push(Blocked {
-            service: s,
-            reason,
-            trace,
-        });
+        out.dead.push(blocked);
     }
 }
 
-/// Why a request for `s` is rejected right after initialisation.
-/// Returns the reject reason (the reply) and a sentence.
-fn reject_reason(
-    c: &Component,
-    global: &System<'_>,
-    prefix: &[Action],
+/// Returns the reject reason (the reply) and a sentence, for a request of
+/// `s` in `cfg` of `sys`.
+pub(crate) fn reject_reason(
+    sys: &System<'_>,
+    cfg: &Config,
     s: ServiceId,
-    initialised: bool,
 ) -> (Option<&'static str>, String) {
-    if !initialised {
-        let init = c.init_service().map_or("init", |i| c.services[i].name.name.as_str());
+    let c = sys.component();
+    if !cfg.init_done {
+        let init = c
+            .init_service()
+            .map_or("init", |i| c.services[i].name.name.as_str());
         let text = format!("NOT_INITIALIZED, because `{init}` can never complete successfully");
         return (Some("NOT_INITIALIZED"), text);
-    }
-    let mut cfg = global.initial(false, &mut None);
-    for &a in prefix {
-        if let Some(next) = global.apply(&cfg, a, &mut None) {
-            cfg = next;
-        }
     }
     let forbidder = c.services.iter().find(|&(t, ts)| {
         t != s
             && ts.forbids.iter().any(|r| r.id == s)
-            && global
+            && sys
                 .member_index(t)
-                .is_some_and(|j| cfg.main[j] != IDLE || cfg.pending[j].is_some())
+                .is_some_and(|j| System::has_instance(cfg, j))
     });
     match forbidder {
-        Some((_, t)) => (Some("FORBIDDEN"), format!("FORBIDDEN by `{}`, which runs forever", t.name.name)),
+        Some((_, t)) => (
+            Some("FORBIDDEN"),
+            format!("FORBIDDEN by `{}`, which runs forever", t.name.name),
+        ),
         None => (None, "every request is rejected".to_owned()),
     }
 }

@@ -87,6 +87,13 @@ pub struct Exploration<A, Z = ()> {
     pub elapsed: Duration,
 }
 
+impl<A: Copy, Z: Subsumes> Exploration<A, Z> {
+    /// The decoded state `id`.
+    pub fn store_config<M: Model<Action = A, Zone = Z>>(&self, model: &M, id: StateId) -> M::State {
+        model.decode(self.store.get(id), self.store.zone(id))
+    }
+}
+
 /// Explores `model` breadth-first, calling `visit` once per new state.
 pub fn explore<M: Model>(
     model: &M,
@@ -115,6 +122,9 @@ pub fn explore<M: Model>(
         }
         let id = StateId::try_from(next).unwrap_or(StateId::MAX);
         next += 1;
+        if store.is_covered(id) {
+            continue;
+        }
         let state = model.decode(store.get(id), store.zone(id));
         if !model.expand(&state) {
             continue;
@@ -144,7 +154,11 @@ pub fn explore<M: Model>(
 
 /// The state limit is checked before every expansion; time and memory
 /// every 1024 expansions.
-fn check_limits<A: Copy, Z: Subsumes>(store: &Store<A, Z>, limits: Limits, expanded: usize) -> Option<Stop> {
+fn check_limits<A: Copy, Z: Subsumes>(
+    store: &Store<A, Z>,
+    limits: Limits,
+    expanded: usize,
+) -> Option<Stop> {
     if store.len() >= limits.max_states {
         return Some(Stop::States);
     }

@@ -39,6 +39,8 @@ pub struct Store<A, Z = ()> {
     zones: Vec<Z>,
     /// The previous state with the same words.
     same: Vec<StateId>,
+    /// States whose zone a later state includes: no need to expand them.
+    covered: Vec<bool>,
     table: HashTable<StateId>,
     parents: Vec<StateId>,
     via: Vec<Option<A>>,
@@ -62,6 +64,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             words: Vec::new(),
             zones: Vec::new(),
             same: Vec::new(),
+            covered: Vec::new(),
             table: HashTable::new(),
             parents: Vec::new(),
             via: Vec::new(),
@@ -86,7 +89,12 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
 
     /// Inserts a state reached from `parent` by `via`; returns its id and
     /// whether it is new (not subsumed by a stored state with the same words).
-    pub fn insert(&mut self, key: &[u64], zone: Z, parent: Option<(StateId, A)>) -> (StateId, bool) {
+    pub fn insert(
+        &mut self,
+        key: &[u64],
+        zone: Z,
+        parent: Option<(StateId, A)>,
+    ) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
         let hash = self.hash(key);
         let (words, width) = (&self.words, self.width);
@@ -99,13 +107,25 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             }
             cur = self.same[cur as usize];
         }
+        // The new zone may include stored ones: those need no expansion.
+        let mut cur = head.unwrap_or(NONE);
+        while cur != NONE {
+            if !self.covered[cur as usize] && self.zones[cur as usize].subsumed_by(&zone) {
+                self.covered[cur as usize] = true;
+            }
+            cur = self.same[cur as usize];
+        }
         let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
         self.words.extend_from_slice(key);
         self.zones.push(zone);
+        self.covered.push(false);
         self.same.push(head.unwrap_or(NONE));
         match head {
             Some(_) => {
-                if let Some(entry) = self.table.find_mut(hash, |&other| other == head.unwrap_or(NONE)) {
+                if let Some(entry) = self
+                    .table
+                    .find_mut(hash, |&other| other == head.unwrap_or(NONE))
+                {
                     *entry = id;
                 }
             }
@@ -119,6 +139,11 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.parents.push(parent.map_or(id, |(p, _)| p));
         self.via.push(parent.map(|(_, a)| a));
         (id, true)
+    }
+
+    /// Whether a later state's zone includes this one's.
+    pub fn is_covered(&self, id: StateId) -> bool {
+        self.covered.get(id as usize).copied().unwrap_or(false)
     }
 
     /// Number of stored states.
@@ -167,6 +192,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.words.capacity() * 8
             + self.table.capacity() * (size_of::<StateId>() + 1)
             + (self.parents.capacity() + self.same.capacity()) * size_of::<StateId>()
+            + self.covered.capacity()
             + self.via.capacity() * size_of::<Option<A>>()
             + self.zones.capacity() * size_of::<Z>()
     }

@@ -151,7 +151,8 @@ impl<'a> System<'a> {
         self.machine(i).positions[usize::from(cfg.main[i])]
     }
 
-    fn has_instance(cfg: &Config, i: usize) -> bool {
+    /// Whether member `i` has an instance (main or pending).
+    pub fn has_instance(cfg: &Config, i: usize) -> bool {
         cfg.main[i] != IDLE || cfg.pending[i].is_some()
     }
 
@@ -213,7 +214,9 @@ impl<'a> System<'a> {
         })
     }
 
-    fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
+    /// Whether member `i` may begin `codel` now: its thread is free and no
+    /// running codel of another thread conflicts with it.
+    pub fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
         let thread = self.machine(i).thread.map(|t| (i, t));
         let uses = &self.codel_structures[codel.0 as usize];
         !self.locked(cfg, uses, thread)
@@ -249,24 +252,14 @@ impl<'a> System<'a> {
             return None;
         }
         let s = self.members[i].service;
-        self.emit(
-            ev,
-            Event::Request,
-            s,
-            None,
-            None,
-            format!("a client requests `{}`", self.name(s)),
-        );
+        self.emit(ev, Event::Request, s, None, || {
+            (None, format!("a client requests `{}`", self.name(s)))
+        });
         if let Some(control) = self.c.services[s].control {
             let f = self.function(control);
-            self.emit(
-                ev,
-                Event::Accept,
-                s,
-                Some(control),
-                None,
-                format!("control codel `{f}` accepts the request"),
-            );
+            self.emit(ev, Event::Accept, s, Some(control), || {
+                (None, format!("control codel `{f}` accepts the request"))
+            });
         }
         let mut mask = 0u64;
         for (bit, &t) in self.members[i].stops.clone().iter().enumerate() {
@@ -277,14 +270,12 @@ impl<'a> System<'a> {
             }
         }
         cfg.pending[i] = Some(mask);
-        self.emit(
-            ev,
-            Event::Acknowledge,
-            s,
-            None,
-            None,
-            format!("`{}` is acknowledged (pending)", self.name(s)),
-        );
+        self.emit(ev, Event::Acknowledge, s, None, || {
+            (
+                None,
+                format!("`{}` is acknowledged (pending)", self.name(s)),
+            )
+        });
         Some(())
     }
 
@@ -304,14 +295,12 @@ impl<'a> System<'a> {
         } else {
             (Event::Interrupt, "INTERRUPTED")
         };
-        self.emit(
-            ev,
-            event,
-            s,
-            None,
-            None,
-            format!("the pending instance of `{}` is interrupted", self.name(s)),
-        );
+        self.emit(ev, event, s, None, || {
+            (
+                None,
+                format!("the pending instance of `{}` is interrupted", self.name(s)),
+            )
+        });
         self.emit_reply(ev, s, reply);
     }
 
@@ -341,14 +330,9 @@ impl<'a> System<'a> {
         let place = at
             .map(|c| format!(" at `{}`", self.c.codels[c].name.name))
             .unwrap_or_default();
-        self.emit(
-            ev,
-            event,
-            s,
-            at,
-            None,
-            format!("{who} `{}`{place}", self.name(s)),
-        );
+        self.emit(ev, event, s, at, || {
+            (None, format!("{who} `{}`{place}", self.name(s)))
+        });
         match effect {
             Effect::Goto(q) => {
                 cfg.main[t] = q;
@@ -377,7 +361,7 @@ impl<'a> System<'a> {
             |t| self.c.threads[t].name.name.clone(),
         );
         let text = format!("thread `{thread}` runs `{}`", self.c.codel_label(codel));
-        self.emit(ev, Event::CodelStart, s, Some(codel), None, text);
+        self.emit(ev, Event::CodelStart, s, Some(codel), || (None, text));
         Some(())
     }
 
@@ -393,15 +377,15 @@ impl<'a> System<'a> {
         let f = *m.finish[p].get(k)?;
         let codel = m.positions[p].codel()?;
         let s = self.members[i].service;
-        let outcome = f.outcome.map(|o| self.outcome_name(s, o));
-        let text = match &outcome {
-            Some(o) => format!("`{}` ends with `{o}`", self.c.codel_label(codel)),
-            None => format!(
-                "`{}` ends; the service was interrupted",
-                self.c.codel_label(codel)
-            ),
-        };
-        self.emit(ev, Event::CodelEnd, s, Some(codel), outcome, text);
+        self.emit(ev, Event::CodelEnd, s, Some(codel), || {
+            let outcome = f.outcome.map(|o| self.outcome_name(s, o));
+            let label = self.c.codel_label(codel);
+            let text = match &outcome {
+                Some(o) => format!("`{label}` ends with `{o}`"),
+                None => format!("`{label}` ends; the service was interrupted"),
+            };
+            (outcome, text)
+        });
         match f.effect {
             Effect::Goto(q) => cfg.main[i] = q,
             Effect::End(ending) => self.end(cfg, i, ending, cfg.timed_out[i], ev),
@@ -454,8 +438,13 @@ impl<'a> System<'a> {
         self.emit_reply(ev, s, &reply);
         for (k, m) in self.members.iter().enumerate() {
             if let Some(mask) = cfg.pending[k] {
-                let ended: u64 =
-                    m.stops.iter().enumerate().filter(|&(_, &t)| t == i).map(|(bit, _)| 1 << bit).sum();
+                let ended: u64 = m
+                    .stops
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &t)| t == i)
+                    .map(|(bit, _)| 1 << bit)
+                    .sum();
                 cfg.pending[k] = Some(mask & !ended);
             }
         }
@@ -475,7 +464,7 @@ impl<'a> System<'a> {
             if self.c.services[m.service].kind == ServiceKind::Auto && !Self::has_instance(cfg, i) {
                 cfg.pending[i] = Some(0);
                 let text = format!("auto service `{}` is acknowledged", self.name(m.service));
-                self.emit(ev, Event::Acknowledge, m.service, None, None, text);
+                self.emit(ev, Event::Acknowledge, m.service, None, || (None, text));
             }
         }
     }
@@ -490,24 +479,14 @@ impl<'a> System<'a> {
             match self.machine(i).start {
                 Some(p) => {
                     cfg.main[i] = p;
-                    self.emit(
-                        ev,
-                        Event::Start,
-                        s,
-                        self.c.services[s].start,
-                        None,
-                        format!("`{}` starts", self.name(s)),
-                    );
+                    self.emit(ev, Event::Start, s, self.c.services[s].start, || {
+                        (None, format!("`{}` starts", self.name(s)))
+                    });
                 }
                 None => {
-                    self.emit(
-                        ev,
-                        Event::Start,
-                        s,
-                        None,
-                        None,
-                        format!("`{}` completes at once", self.name(s)),
-                    );
+                    self.emit(ev, Event::Start, s, None, || {
+                        (None, format!("`{}` completes at once", self.name(s)))
+                    });
                     self.end(cfg, i, Ending::Success, false, ev);
                 }
             }
@@ -548,6 +527,26 @@ impl<'a> System<'a> {
         out
     }
 
+    /// The structures a codel uses, with write access.
+    pub fn codel_uses(&self, codel: CodelId) -> &[(StructureId, bool)] {
+        &self.codel_structures[codel.0 as usize]
+    }
+
+    /// The structures member `i`'s control codel uses, with write access.
+    pub fn control_uses(&self, i: usize) -> &[(StructureId, bool)] {
+        &self.members[i].control
+    }
+
+    /// Number of members.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// True without members.
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
     /// The service of member `i`.
     pub fn service(&self, i: usize) -> ServiceId {
         self.members[i].service
@@ -581,8 +580,12 @@ impl<'a> System<'a> {
     }
 
     fn emit_reply(&self, ev: &mut Option<&mut Vec<TraceStep>>, s: ServiceId, reply: &str) {
-        let text = format!("`{}` replies {reply}", self.name(s));
-        self.emit(ev, Event::Reply, s, None, Some(reply.to_owned()), text);
+        self.emit(ev, Event::Reply, s, None, || {
+            (
+                Some(reply.to_owned()),
+                format!("`{}` replies {reply}", self.name(s)),
+            )
+        });
     }
 
     fn emit(
@@ -591,12 +594,12 @@ impl<'a> System<'a> {
         event: Event,
         s: ServiceId,
         codel: Option<CodelId>,
-        outcome: Option<String>,
-        text: String,
+        describe: impl FnOnce() -> (Option<String>, String),
     ) {
         let Some(sink) = ev.as_deref_mut() else {
             return;
         };
+        let (outcome, text) = describe();
         let svc = &self.c.services[s];
         let thread = match event {
             Event::CodelStart | Event::CodelEnd => {
@@ -623,7 +626,8 @@ impl<'a> System<'a> {
     }
 }
 
-fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
+/// Whether two uses conflict: a shared structure written by one of them.
+pub fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
     a.iter()
         .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
 }

@@ -92,7 +92,10 @@ impl Resolver {
             return Some(Ref { id, span: t.span });
         }
         let candidates: Vec<&str> = self.names.threads.keys().map(String::as_str).collect();
-        let d = unknown_name::unknown_thread(&t.name, t.span, candidates);
+        let mut d = unknown_name::unknown_thread(&t.name, t.span, candidates);
+        if t.name == "control" {
+            d = d.with_help("the control thread only runs control codels; a service with a start codel needs a declared execution thread");
+        }
         self.report(d);
         None
     }

@@ -167,6 +167,22 @@ impl Dbm {
         self.set(x, x, LE_ZERO);
     }
 
+    /// Sets clock `x` to the value of clock `y` (canonical in and out).
+    pub fn copy(&mut self, x: usize, y: usize) {
+        if x == y {
+            return;
+        }
+        for j in 0..self.dim {
+            if j != x {
+                self.set(x, j, self.get(y, j));
+                self.set(j, x, self.get(j, y));
+            }
+        }
+        self.set(x, y, LE_ZERO);
+        self.set(y, x, LE_ZERO);
+        self.set(x, x, LE_ZERO);
+    }
+
     /// Frees clock `x` (any non-negative value), canonical in and out.
     pub fn free(&mut self, x: usize) {
         for j in 0..self.dim {

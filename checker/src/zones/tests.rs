@@ -219,3 +219,14 @@ fn delay_reset_and_guards_on_a_worked_example() {
     assert_eq!(z.get(1, 0), INF);
     assert!(!z.clone().constrain(1, 0, lt(2)));
 }
+
+#[test]
+fn freeing_a_clock_forgets_its_relations() {
+    let mut z = Dbm::zero(2);
+    z.up();
+    assert!(z.upper(1, 5));
+    z.free(2);
+    assert_eq!(z.get(1, 2), le(5));
+    assert_eq!(z.get(2, 1), INF);
+    assert_eq!(z.get(0, 2), le(0));
+}

@@ -11,7 +11,7 @@ use miette::{
 use super::FileReport;
 use crate::diagnostic::{Counts, Diagnostic, Severity};
 use crate::span::{FileId, SourceMap, Span};
-use crate::trace::Trace;
+use crate::trace::{Event, Trace};
 
 /// How to draw reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,7 +82,8 @@ fn plural(n: usize, word: &str) -> String {
     }
 }
 
-/// Renders a trace as numbered steps with the source line of each.
+/// Renders a trace as numbered steps with the source line of each; a timed
+/// trace also gets a timeline per thread.
 pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
     let mut out = String::from("  trace:\n");
     for (i, step) in trace.steps.iter().enumerate() {
@@ -91,12 +92,100 @@ pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
         }
         let time = step
             .time_ns
-            .map(|t| format!("[{}] ", format_ns(t)))
+            .map(|t| format!("[{}] ", format_instant(t)))
             .unwrap_or_default();
         let place = step.span.map(|s| location(sources, s)).unwrap_or_default();
         let _ = writeln!(out, "  {:>4}. {time}{}{place}", i + 1, step.text);
     }
+    if trace.steps.iter().any(|s| s.time_ns.is_some()) {
+        out.push_str(&render_timeline(trace));
+    }
     out
+}
+
+/// One line per thread: its wake-ups (`|`) and codel executions with their
+/// start and end instants; the control thread's requests.
+pub fn render_timeline(trace: &Trace) -> String {
+    let mut threads: Vec<(String, Vec<String>)> = Vec::new();
+    let mut open: Vec<(String, String, u64)> = Vec::new();
+    for step in &trace.steps {
+        let (Some(thread), Some(t)) = (&step.thread, step.time_ns) else {
+            continue;
+        };
+        let item = match step.event {
+            Event::WakeUp => Some(format!("|{}", format_instant(t))),
+            Event::CodelStart => {
+                open.push((thread.clone(), step.codel.clone().unwrap_or_default(), t));
+                None
+            }
+            Event::CodelEnd => {
+                let at = open
+                    .iter()
+                    .rposition(|(th, c, _)| th == thread && Some(c) == step.codel.as_ref());
+                let start = at.map_or(t, |k| open.remove(k).2);
+                let who = format!(
+                    "{}::{}",
+                    step.service.clone().unwrap_or_default(),
+                    step.codel.clone().unwrap_or_default()
+                );
+                let outcome = step
+                    .outcome
+                    .as_ref()
+                    .map(|o| format!("→{o}"))
+                    .unwrap_or_default();
+                Some(format!(
+                    "{who}[{}–{}]{outcome}",
+                    format_instant(start),
+                    format_instant(t)
+                ))
+            }
+            Event::Request | Event::Reject | Event::Acknowledge => {
+                let what = match step.event {
+                    Event::Request => "request",
+                    Event::Reject => "reject",
+                    _ => "ack",
+                };
+                Some(format!(
+                    "{what} {}@{}",
+                    step.service.clone().unwrap_or_default(),
+                    format_instant(t)
+                ))
+            }
+            _ => None,
+        };
+        let Some(item) = item else { continue };
+        match threads.iter_mut().find(|(name, _)| name == thread) {
+            Some((_, items)) => items.push(item),
+            None => threads.push((thread.clone(), vec![item])),
+        }
+    }
+    for (thread, _, start) in open {
+        let item = format!("(running since {})", format_instant(start));
+        if let Some((_, items)) = threads.iter_mut().find(|(name, _)| *name == thread) {
+            items.push(item);
+        }
+    }
+    let width = threads
+        .iter()
+        .map(|(n, _)| n.chars().count())
+        .max()
+        .unwrap_or(0);
+    let mut out = String::from("  timeline:\n");
+    for (name, items) in threads {
+        let _ = writeln!(out, "    {name:<width$}  {}", items.join("  "));
+    }
+    out
+}
+
+/// An instant: whole units when exact (`12ms`), else milliseconds with
+/// decimals (`1000.000217ms`).
+pub fn format_instant(ns: u64) -> String {
+    if ns == 0 || ns % 1_000 == 0 {
+        return format_ns(ns);
+    }
+    let ms = ns / 1_000_000;
+    let frac = format!("{:06}", ns % 1_000_000);
+    format!("{ms}.{}ms", frac.trim_end_matches('0'))
 }
 
 fn location(sources: &SourceMap, span: Span) -> String {
@@ -326,6 +415,13 @@ mod tests {
             render_summary("a.gen", Counts::default()),
             "a.gen: 0 errors, 0 warnings, 0 advice"
         );
+    }
+
+    #[test]
+    fn instants_keep_sub_microsecond_precision() {
+        assert_eq!(format_instant(12_000_000), "12ms");
+        assert_eq!(format_instant(1_000_000_217), "1000.000217ms");
+        assert_eq!(format_instant(250), "0.00025ms");
     }
 
     #[test]

@@ -1,0 +1,88 @@
+//! `missing-wcet` (advice): codels without a WCET (`max-time`) are treated as
+//! taking no time, so timing properties that involve them are not proven.
+
+use genom_model::component::Component;
+use genom_model::{Code, Diagnostic};
+
+/// `genom-check explain missing-wcet`.
+pub const EXPLANATION: &str = r#"Some codels have no worst-case execution time (`max-time` on the codel).
+As the language reference says, such a codel is treated as taking no time:
+it never causes a thread overrun or a missed max-time by itself. The advice
+names the properties this leaves unproven: overruns of the periodic threads
+that run those codels, and the max-time of the services that use them.
+
+Example:
+
+```
+thread motionTask { period: 1s; }
+service moveDistance {
+  thread: motionTask;
+  start codel { exec: start(); next: goto; }            // no max-time
+  exec codel goto { exec: go(); max-time: 20ms; next: goto, end; }
+}
+```
+
+Give every codel a `max-time` measured on the target, with a margin."#;
+
+/// One advice for the component, when something timing-related depends on
+/// codels without WCET.
+pub fn check(c: &Component) -> Vec<Diagnostic> {
+    let missing: Vec<_> = c.codels.values().filter(|k| k.wcet.is_none()).collect();
+    let threads: Vec<String> = c
+        .threads
+        .values()
+        .filter(|t| t.period.is_some())
+        .filter(|t| {
+            missing.iter().any(|k| {
+                c.services[k.service]
+                    .thread
+                    .is_some_and(|r| c.threads[r.id].name == t.name)
+            })
+        })
+        .map(|t| format!("`{}`", t.name.name))
+        .collect();
+    let services: Vec<String> = c
+        .services
+        .values()
+        .filter(|s| {
+            s.max_time.is_some() && missing.iter().any(|k| c.services[k.service].name == s.name)
+        })
+        .map(|s| format!("`{}`", s.name.name))
+        .collect();
+    let Some(first) = missing
+        .first()
+        .filter(|_| !threads.is_empty() || !services.is_empty())
+    else {
+        return Vec::new();
+    };
+    let mut unproven = Vec::new();
+    if !threads.is_empty() {
+        unproven.push(format!("overruns of thread {}", threads.join(", ")));
+    }
+    if !services.is_empty() {
+        unproven.push(format!("the max-time of {}", services.join(", ")));
+    }
+    let label = |k: &genom_model::component::Codel| {
+        format!(
+            "`{}::{}` has no WCET",
+            c.services[k.service].name.name, k.name.name
+        )
+    };
+    let mut d = Diagnostic::new(
+        Code::MissingWcet,
+        format!(
+            "{} codel{} without WCET (`max-time`) are taken as running in no time",
+            missing.len(),
+            if missing.len() == 1 { "" } else { "s" }
+        ),
+        first.name.span,
+        label(first),
+    );
+    for k in missing.iter().skip(1).take(9) {
+        d = d.with_label(k.name.span, label(k));
+    }
+    vec![d.with_help(format!(
+        "left unproven: {}; give every codel a `max-time`",
+        unproven.join("; ")
+    ))]
+}

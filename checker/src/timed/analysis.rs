@@ -1,0 +1,278 @@
+//! Runs the timed explorations and reads the timing facts off the symbolic
+//! states, together with every behavioural verdict (decided on the timed
+//! model when the component gives timing).
+//!
+//! Timed clusters are the connected components of the `stops`/`delays`/
+//! `forbids` relation *and* of sharing a thread or a lock (timing couples
+//! those). Each cluster is explored with the init service, which runs
+//! before anything else; when the init service is not linked to the
+//! cluster, it is frozen once it has completed.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use genom_model::behaviour::{Behaviour, Position};
+use genom_model::component::{Component, Outcome, ServiceId, ThreadId};
+use genom_model::trace::{Event, Trace, TraceStep};
+
+use super::model::{TState, TimedSystem, Violation};
+use super::trace::{Target, exceeded_zone, timed_trace};
+use crate::engine::analysis::{Analysis, Found, Witnesses, collect, finish_dead, visit};
+use crate::engine::explore::{Limits, explore};
+use crate::engine::store::StateId;
+use crate::engine::system::{System, conflict};
+use crate::zones::dbm::lt;
+
+/// A thread overrun with its timed trace.
+#[derive(Debug, Clone)]
+pub struct Overrun {
+    /// The thread.
+    pub thread: ThreadId,
+    /// The trace, ending at the wake-up that finds work unfinished.
+    pub trace: Trace,
+}
+
+/// A service that can miss its max-time.
+#[derive(Debug, Clone)]
+pub struct Exceeded {
+    /// The service.
+    pub service: ServiceId,
+    /// The trace, ending when the max-time has passed with the instance
+    /// still running.
+    pub trace: Trace,
+}
+
+/// The timing facts of the timed explorations.
+#[derive(Debug, Clone, Default)]
+pub struct TimedFacts {
+    /// Threads that can overrun, first trace each.
+    pub overruns: Vec<Overrun>,
+    /// Services that can miss their max-time, first trace each.
+    pub exceeded: Vec<Exceeded>,
+    /// Services some execution ends by itself within its max-time.
+    pub in_time: BTreeSet<ServiceId>,
+    /// Services acknowledged in some execution.
+    pub acknowledged: BTreeSet<ServiceId>,
+}
+
+/// Witnesses of the timing facts in one exploration.
+#[derive(Default)]
+struct TFound {
+    overruns: BTreeMap<ThreadId, StateId>,
+    exceeded: BTreeMap<ServiceId, (StateId, usize, usize, i64)>,
+    in_time: BTreeSet<ServiceId>,
+    acknowledged: BTreeSet<ServiceId>,
+}
+
+/// Explores the component's timed model.
+pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
+    let b = Behaviour::new(c);
+    let mut out = Analysis::default();
+    let mut facts = TimedFacts::default();
+    let mut budget = limits;
+    let init = c.init_service();
+    for cluster in timed_clusters(c) {
+        let linked = init.is_some_and(|i| cluster.contains(&i));
+        let mut members = cluster.clone();
+        if let Some(i) = init.filter(|_| !linked) {
+            members.push(i);
+            members.sort();
+        }
+        explore_timed(c, &b, &members, !linked, &mut budget, &mut out, &mut facts);
+    }
+    let all: Vec<ServiceId> = c.services.ids().collect();
+    let global = System::new(c, &b, &all, false);
+    finish_dead(c, &global, &mut out);
+    (out, facts)
+}
+
+fn explore_timed(
+    c: &Component,
+    b: &Behaviour,
+    members: &[ServiceId],
+    frozen: bool,
+    budget: &mut Limits,
+    out: &mut Analysis,
+    facts: &mut TimedFacts,
+) {
+    let ts = TimedSystem::new(c, b, members, frozen);
+    let mut found = Found::default();
+    let mut tfound = TFound::default();
+    let e = explore(&ts, *budget, |id, st| {
+        visit(&ts.sys, id, &st.cfg, &mut found);
+        tvisit(&ts, id, st, &mut tfound);
+    });
+    out.account(
+        budget,
+        e.store.len(),
+        e.transitions,
+        e.elapsed,
+        e.store.bytes_per_state(),
+        e.stopped,
+    );
+    if e.stopped.is_some() {
+        out.unproven.extend(members.iter().copied());
+    }
+    let config = |id: StateId| e.store_config(&ts, id).cfg;
+    let trace = |id: StateId, _looping: Option<ServiceId>, last: TraceStep| {
+        timed_trace(&ts, &e.store.path(id), Target::Any, last)
+    };
+    collect(
+        &Witnesses {
+            sys: &ts.sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
+    for (&thread, &id) in &tfound.overruns {
+        let name = &c.threads[thread].name.name;
+        let text =
+            format!("thread `{name}` wakes up while codels of its previous period are unfinished");
+        let trace = timed_trace(
+            &ts,
+            &e.store.path(id),
+            Target::Any,
+            TraceStep::new(Event::Violation, text),
+        );
+        facts.overruns.push(Overrun { thread, trace });
+    }
+    for (&service, &(id, member, clock, max)) in &tfound.exceeded {
+        let s = &c.services[service];
+        let m = s.max_time.map_or(0, |m| m.ns);
+        let text = format!(
+            "`{}` has not ended {} after its acknowledgment",
+            s.name.name,
+            genom_model::render::human::format_ns(m)
+        );
+        let target = Target::Exceeded { member, clock, max };
+        let trace = timed_trace(
+            &ts,
+            &e.store.path(id),
+            target,
+            TraceStep::new(Event::Violation, text),
+        );
+        facts.exceeded.push(Exceeded { service, trace });
+    }
+    facts.in_time.extend(tfound.in_time);
+    facts.acknowledged.extend(tfound.acknowledged);
+    facts.in_time.extend(
+        found
+            .started
+            .iter()
+            .filter(|&&s| c.services[s].start.is_none()),
+    );
+}
+
+/// Reads the timing facts of one new symbolic state.
+fn tvisit(ts: &TimedSystem<'_>, id: StateId, st: &TState, found: &mut TFound) {
+    if let Some(Violation::Overrun(k)) = st.violation {
+        if let Some(t) = ts.threads.get(usize::from(k)) {
+            found.overruns.entry(t.id).or_insert(id);
+        }
+        return;
+    }
+    let urgent = ts.urgent(st);
+    for i in 0..ts.sys.len() {
+        let s = ts.sys.service(i);
+        if System::has_instance(&st.cfg, i) {
+            found.acknowledged.insert(s);
+        }
+        if ends_in_time(ts, st, i) {
+            found.in_time.insert(s);
+        }
+        if urgent || found.exceeded.contains_key(&s) {
+            continue;
+        }
+        let (Some((main, pend)), Some(max)) = (ts.watch[i], ts.max_time[i]) else {
+            continue;
+        };
+        let mut clocks = Vec::new();
+        if ts.watchable(&st.cfg, i) {
+            clocks.push(main);
+        }
+        if st.cfg.pending[i].is_some() {
+            clocks.push(if st.cfg.main[i] == genom_model::behaviour::IDLE {
+                main
+            } else {
+                pend
+            });
+        }
+        for clock in clocks {
+            let z = exceeded_zone(ts, st, i, clock, max);
+            if !z.is_empty() && z.intersects(0, clock, lt(-max)) {
+                found.exceeded.entry(s).or_insert((id, i, clock, max));
+            }
+        }
+    }
+}
+
+/// Member `i` runs a codel that may end its instance by itself (an `end`
+/// or report outcome), not interrupted: it can end within its max-time.
+fn ends_in_time(ts: &TimedSystem<'_>, st: &TState, i: usize) -> bool {
+    let Position::Running {
+        codel,
+        interrupted: false,
+    } = ts.sys.position(&st.cfg, i)
+    else {
+        return false;
+    };
+    let c = ts.sys.component();
+    !st.cfg.timed_out[i]
+        && c.codels[codel]
+            .outcomes()
+            .iter()
+            .any(|o| matches!(o, Outcome::End | Outcome::Report(_)))
+}
+
+/// The timed clusters, each sorted, in order of their first service.
+pub fn timed_clusters(c: &Component) -> Vec<Vec<ServiceId>> {
+    let n = c.services.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    let find = |parent: &mut Vec<usize>, x: usize| {
+        let mut r = x;
+        while parent[r] != r {
+            r = parent[r];
+        }
+        r
+    };
+    let union = |parent: &mut Vec<usize>, a: usize, b: usize| {
+        let (ra, rb) = (find(parent, a), find(parent, b));
+        parent[ra.max(rb)] = ra.min(rb);
+    };
+    let uses: Vec<Vec<(genom_model::component::StructureId, bool)>> = c
+        .services
+        .values()
+        .map(|s| {
+            s.codels
+                .iter()
+                .flat_map(|&k| c.codels[k].structures())
+                .collect()
+        })
+        .collect();
+    for (s, svc) in c.services.iter() {
+        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
+            union(&mut parent, s.0 as usize, r.id.0 as usize);
+        }
+        for (t, other) in c.services.iter().filter(|&(t, _)| t > s) {
+            let same_thread =
+                svc.thread.is_some() && svc.thread.map(|r| r.id) == other.thread.map(|r| r.id);
+            if same_thread || conflict(&uses[s.0 as usize], &uses[t.0 as usize]) {
+                union(&mut parent, s.0 as usize, t.0 as usize);
+            }
+        }
+    }
+    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
+    for s in c.services.ids() {
+        groups
+            .entry(find(&mut parent, s.0 as usize))
+            .or_default()
+            .push(s);
+    }
+    groups.into_values().collect()
+}
+
+/// Whether the component gives timing: some codel WCET or service max-time.
+pub fn gives_timing(c: &Component) -> bool {
+    c.codels.values().any(|k| k.wcet.is_some()) || c.services.values().any(|s| s.max_time.is_some())
+}

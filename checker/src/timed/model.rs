@@ -1,0 +1,903 @@
+//! The timed semantics of LANGUAGE.md section 3: the untimed semantics of
+//! [`System`] (which alone defines requests, codel outcomes, interrupts and
+//! starts) plus time:
+//!
+//! - a periodic thread wakes up at every multiple of its period and runs, in
+//!   acknowledgment order, one codel of each service that was active at the
+//!   wake-up; a wake-up with codels of the previous period unfinished is a
+//!   *thread overrun* (a terminal violation state);
+//! - an aperiodic thread runs rounds back to back, one codel per active
+//!   service per round;
+//! - a codel takes between 0 and its WCET (0 without one); a thread starts
+//!   its next codel as soon as it may (urgent) — it only waits for locks;
+//! - locks: a codel starts only when no running codel of another thread
+//!   (the control thread included) conflicts with it; a thread waiting for
+//!   a lock gets it before the control thread takes it for a new request;
+//! - a control codel takes between 0 and its WCET on the control thread,
+//!   which handles one request at a time; requests arrive at any time;
+//! - a service with `max-time` is interrupted by its watchdog when its
+//!   instance is still active (or pending) `max-time` after acknowledgment.
+//!
+//! A symbolic state is the discrete state plus a clock zone.
+
+use genom_model::behaviour::{Behaviour, IDLE, Position};
+use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
+use genom_model::kinds::ServiceKind;
+use genom_model::trace::TraceStep;
+
+use super::clocks::{ClockRole, Clocks, unit_ns, units};
+use crate::engine::explore::Model;
+use crate::engine::store::Subsumes;
+use crate::engine::system::{Action, Config, System, conflict};
+use crate::zones::dbm::Dbm;
+
+impl Subsumes for Dbm {
+    fn subsumed_by(&self, other: &Dbm) -> bool {
+        self.included_in(other)
+    }
+}
+
+/// A transition of the timed model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TAction {
+    /// An untimed step of a service (request without control codel, codel
+    /// begin and finish, watchdog).
+    Step(Action),
+    /// A request whose control codel starts running on the control thread.
+    RequestBegin(ServiceId),
+    /// The control codel of the running request finishes: accept or reject.
+    RequestEnd(ServiceId, bool),
+    /// A periodic thread wakes up (index among the model's threads).
+    WakeUp(u16),
+    /// An aperiodic thread starts a new round.
+    Round(u16),
+}
+
+/// A thread of the model.
+#[derive(Debug, Clone)]
+pub struct TThread {
+    /// The thread.
+    pub id: ThreadId,
+    /// Its period in units (`None`: aperiodic).
+    pub period: Option<i64>,
+    /// Member indices of the services it runs, by slot.
+    pub members: Vec<usize>,
+    /// Clock of the period (periodic threads).
+    pub period_clock: Option<usize>,
+    /// Clock of the running codel.
+    pub exec_clock: usize,
+}
+
+/// What a transition did to one member's instances.
+#[derive(Debug, Clone, Copy)]
+struct Change {
+    /// A new instance was acknowledged.
+    acked: bool,
+    /// A pending instance became the main instance.
+    started: bool,
+    /// The main instance ended (or was replaced).
+    ended: bool,
+}
+
+/// A terminal violation found by the model itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Violation {
+    /// A thread woke up with codels of the previous period unfinished.
+    Overrun(u16),
+}
+
+/// A symbolic state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TState {
+    /// The untimed configuration.
+    pub cfg: Config,
+    /// Per thread: slots that still run a codel in the current period.
+    pub eligible: Vec<u64>,
+    /// Per thread: slots with an instance, in acknowledgment order.
+    pub order: Vec<Vec<u8>>,
+    /// The member whose control codel runs, if any.
+    pub ctl: Option<u16>,
+    /// A violation reached (terminal).
+    pub violation: Option<Violation>,
+    /// The clock zone.
+    pub zone: Dbm,
+}
+
+/// The timed model of a set of member services.
+#[derive(Debug)]
+pub struct TimedSystem<'a> {
+    /// The untimed semantics.
+    pub sys: System<'a>,
+    c: &'a Component,
+    /// Nanoseconds per model unit.
+    pub unit: u64,
+    /// The threads of the members.
+    pub threads: Vec<TThread>,
+    /// Per member: its thread (index in `threads`) and slot.
+    placement: Vec<Option<(usize, usize)>>,
+    /// WCET of each codel of the component, in units (0 without one).
+    wcet: Vec<i64>,
+    /// Per member: max-time in units.
+    pub max_time: Vec<Option<i64>>,
+    /// Per member: control codel WCET in units, when it has a control codel.
+    ctl_wcet: Vec<Option<i64>>,
+    /// Per member: watchdog clock of the main instance (and of the pending
+    /// one for self-stopping services).
+    pub watch: Vec<Option<(usize, usize)>>,
+    /// Clock of the control codel.
+    ctl_clock: usize,
+    /// The clocks.
+    pub clocks: Clocks,
+    /// The init service's member index, frozen once initialisation is done
+    /// (it is only there for the pre-init phase of this cluster).
+    frozen: Option<usize>,
+    /// Apply LU extrapolation (always, except to measure its effect).
+    pub extrapolate: bool,
+    width: usize,
+}
+
+impl<'a> TimedSystem<'a> {
+    /// The timed model of `members`; `frozen_init` freezes the init service
+    /// once it has completed (when it is only in the cluster for the
+    /// pre-init phase).
+    pub fn new(
+        c: &'a Component,
+        b: &'a Behaviour,
+        members: &[ServiceId],
+        frozen_init: bool,
+    ) -> Self {
+        let sys = System::new(c, b, members, false);
+        let unit = unit_ns(c, members);
+        let wcet: Vec<i64> = c
+            .codels
+            .values()
+            .map(|k| k.wcet.map_or(0, |w| units(w.ns, unit)))
+            .collect();
+        let mut clocks = Clocks::default();
+        let threads = threads(c, &sys, unit, &mut clocks);
+        let mut placement = vec![None; sys.len()];
+        for (k, t) in threads.iter().enumerate() {
+            for (slot, &i) in t.members.iter().enumerate() {
+                placement[i] = Some((k, slot));
+            }
+        }
+        let ctl_clock = clocks.add(ClockRole::Exec(None), None, None);
+        // Services whose codels loop without bound are only stopped by their
+        // watchdog, at whatever instant: they get no watchdog clock, and
+        // their watchdog may fire at any time (an over-approximation that
+        // keeps long max-times from unrolling every period until then).
+        let max_time: Vec<Option<i64>> = (0..sys.len())
+            .map(|i| {
+                let svc = &c.services[sys.service(i)];
+                svc.max_time
+                    .filter(|_| !sys.machine_of(i).active_loop)
+                    .map(|m| units(m.ns, unit))
+            })
+            .collect();
+        let watch = watch_clocks(c, &sys, &max_time, &mut clocks);
+        let ctl_wcet = (0..sys.len())
+            .map(|i| {
+                c.services[sys.service(i)]
+                    .control
+                    .map(|k| c.codels[k].wcet.map_or(0, |w| units(w.ns, unit)))
+            })
+            .collect::<Vec<_>>();
+        bound_exec_clocks(c, &sys, &threads, &ctl_wcet, &wcet, ctl_clock, &mut clocks);
+        let frozen = c
+            .init_service()
+            .and_then(|s| sys.member_index(s))
+            .filter(|_| frozen_init);
+        let width = sys.width()
+            + threads
+                .iter()
+                .map(|t| 1 + order_words(t.members.len()))
+                .sum::<usize>()
+            + 1;
+        TimedSystem {
+            sys,
+            c,
+            unit,
+            threads,
+            placement,
+            wcet,
+            max_time,
+            ctl_wcet,
+            watch,
+            ctl_clock,
+            clocks,
+            frozen,
+            extrapolate: true,
+            width,
+        }
+    }
+
+    /// Number of clocks.
+    pub fn clock_count(&self) -> usize {
+        self.clocks.len()
+    }
+
+    fn thread_busy(&self, st: &TState, k: usize) -> bool {
+        self.threads[k]
+            .members
+            .iter()
+            .any(|&i| self.sys.position(&st.cfg, i).is_running())
+    }
+
+    fn active_ready(&self, cfg: &Config, i: usize) -> bool {
+        matches!(
+            self.sys.position(cfg, i),
+            Position::Ready { .. } | Position::StopReady { .. }
+        )
+    }
+
+    /// The member whose turn it is on thread `k`: the first eligible slot
+    /// in acknowledgment order.
+    fn turn(&self, st: &TState, k: usize) -> Option<usize> {
+        st.order[k]
+            .iter()
+            .map(|&slot| usize::from(slot))
+            .find(|&slot| st.eligible[k] & (1 << slot) != 0)
+            .map(|slot| self.threads[k].members[slot])
+    }
+
+    /// Member `i` may begin its next codel now.
+    fn may_begin(&self, st: &TState, i: usize) -> bool {
+        let Some((k, _)) = self.placement[i] else {
+            return false;
+        };
+        let Some(codel) = self.sys.position(&st.cfg, i).codel() else {
+            return false;
+        };
+        !self.thread_busy(st, k)
+            && self.active_ready(&st.cfg, i)
+            && self.turn(st, k) == Some(i)
+            && self.sys.can_begin(&st.cfg, i, codel)
+            && !self.control_conflicts(st, self.sys.codel_uses(codel))
+    }
+
+    fn control_conflicts(
+        &self,
+        st: &TState,
+        uses: &[(genom_model::component::StructureId, bool)],
+    ) -> bool {
+        st.ctl
+            .is_some_and(|r| conflict(uses, self.sys.control_uses(usize::from(r))))
+    }
+
+    /// Some thread is at its turn, idle, and wants a lock the control codel
+    /// of member `i` would take: it gets the lock first (locks are granted
+    /// in request order, and a thread is ready before a request arriving
+    /// at the same instant).
+    fn thread_waits_for(&self, st: &TState, i: usize) -> bool {
+        (0..self.threads.len()).any(|k| {
+            let Some(j) = self.turn(st, k).filter(|_| !self.thread_busy(st, k)) else {
+                return false;
+            };
+            let Some(codel) = self.sys.position(&st.cfg, j).codel() else {
+                return false;
+            };
+            conflict(self.sys.codel_uses(codel), self.sys.control_uses(i))
+        })
+    }
+
+    /// Whether time must not pass in this state: a thread may begin a codel
+    /// or an aperiodic thread may start a round.
+    pub fn urgent(&self, st: &TState) -> bool {
+        (0..self.sys.len()).any(|i| self.may_begin(st, i))
+            || (0..self.threads.len()).any(|k| self.round_enabled(st, k))
+    }
+
+    fn round_enabled(&self, st: &TState, k: usize) -> bool {
+        self.threads[k].period.is_none()
+            && st.eligible[k] == 0
+            && !self.thread_busy(st, k)
+            && self.threads[k]
+                .members
+                .iter()
+                .any(|&i| self.active_ready(&st.cfg, i))
+    }
+
+    fn request_open(&self, st: &TState, i: usize) -> bool {
+        st.ctl.is_none()
+            && !(self.frozen == Some(i) && st.cfg.init_done)
+            && self.sys.request_enabled(&st.cfg, i)
+    }
+
+    /// The invariants of a discrete state, as constraints `x ≤ c`, leaving
+    /// out the watchdog invariant of member `except`.
+    pub fn invariants(&self, st: &TState, except: Option<usize>) -> Vec<(usize, i64)> {
+        let mut out = Vec::new();
+        for t in &self.threads {
+            if let (Some(p), Some(x)) = (t.period, t.period_clock) {
+                out.push((x, p));
+            }
+            if let Some(codel) = t
+                .members
+                .iter()
+                .find_map(|&i| self.running_codel(&st.cfg, i))
+            {
+                out.push((t.exec_clock, self.wcet[codel.0 as usize]));
+            }
+        }
+        if let Some(r) = st.ctl {
+            out.push((self.ctl_clock, self.ctl_wcet[usize::from(r)].unwrap_or(0)));
+        }
+        for i in (0..self.sys.len()).filter(|&i| Some(i) != except) {
+            out.extend(self.watch_invariants(&st.cfg, i));
+        }
+        out
+    }
+
+    fn watch_invariants(&self, cfg: &Config, i: usize) -> Vec<(usize, i64)> {
+        let (Some((main, pend)), Some(m)) = (self.watch[i], self.max_time[i]) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        if self.watchable(cfg, i) {
+            out.push((main, m));
+        }
+        if cfg.pending[i].is_some() {
+            out.push((if cfg.main[i] == IDLE { main } else { pend }, m));
+        }
+        out
+    }
+
+    /// The main instance of member `i` is alive and can still be
+    /// interrupted by its watchdog.
+    pub fn watchable(&self, cfg: &Config, i: usize) -> bool {
+        cfg.main[i] != IDLE && self.sys.machine_of(i).interrupt[usize::from(cfg.main[i])].is_some()
+    }
+
+    fn running_codel(&self, cfg: &Config, i: usize) -> Option<CodelId> {
+        let p = self.sys.position(cfg, i);
+        p.codel().filter(|_| p.is_running())
+    }
+
+    /// The initial symbolic state: everything at 0, autos acknowledged when
+    /// there is no init service, then time passes.
+    pub fn initial_state(&self, events: &mut Option<&mut Vec<TraceStep>>) -> TState {
+        self.start(0, self.extrapolate, events)
+    }
+
+    /// The initial state without extrapolation.
+    pub fn initial_exact(&self) -> TState {
+        self.start(0, false, &mut None)
+    }
+
+    /// The initial state with `extra` more clocks (all 0 at the start, then
+    /// running), extrapolated or not.
+    pub fn start(
+        &self,
+        extra: usize,
+        extrapolate: bool,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> TState {
+        let cfg = self.sys.initial(false, events);
+        let k = self.threads.len();
+        let zone = Dbm::zero(self.clock_count() + extra);
+        let mut st = TState {
+            cfg,
+            eligible: vec![0; k],
+            order: vec![Vec::new(); k],
+            ctl: None,
+            violation: None,
+            zone,
+        };
+        let n = self.sys.len();
+        let before = Config {
+            init_done: st.cfg.init_done,
+            main: vec![IDLE; n],
+            pending: vec![None; n],
+            timed_out: vec![false; n],
+        };
+        self.bookkeep(&before, &mut st, None, true);
+        for t in 0..k {
+            if self.threads[t].period.is_some() {
+                self.emit_wake(events, t);
+                self.wake(&mut st, t);
+            }
+        }
+        self.settle_with(st, extrapolate)
+    }
+
+    /// Lets time pass (unless urgent) under the invariants, and
+    /// extrapolates when asked.
+    pub fn settle_with(&self, mut st: TState, extrapolate: bool) -> TState {
+        if st.violation.is_none() && !self.urgent(&st) {
+            st.zone.up();
+        }
+        for (x, c) in self.invariants(&st, None) {
+            st.zone.upper(x, c);
+        }
+        // After the delay: a clock freed before it would still record that
+        // it is at least as old as the others.
+        self.free_dead_clocks(&mut st);
+        if extrapolate && !st.zone.is_empty() {
+            st.zone.extrapolate(&self.clocks.lower, &self.clocks.upper);
+        }
+        st
+    }
+
+    /// Frees the clocks whose value no longer matters: the execution clock
+    /// of a thread that runs no codel, the control clock when no request is
+    /// being handled (active-clock reduction: fewer, larger zones).
+    fn free_dead_clocks(&self, st: &mut TState) {
+        for (k, t) in self.threads.iter().enumerate() {
+            if !self.thread_busy(st, k) {
+                st.zone.free(t.exec_clock);
+            }
+        }
+        if st.ctl.is_none() {
+            st.zone.free(self.ctl_clock);
+        }
+    }
+
+    /// Starts a new period of thread `k`, or records an overrun.
+    fn wake(&self, st: &mut TState, k: usize) {
+        if st.eligible[k] != 0 || self.thread_busy(st, k) {
+            st.violation = Some(Violation::Overrun(u16::try_from(k).unwrap_or(u16::MAX)));
+            return;
+        }
+        st.eligible[k] = self.fresh_round(st, k);
+        if let Some(x) = self.threads[k].period_clock {
+            st.zone.reset(x);
+        }
+    }
+
+    fn fresh_round(&self, st: &TState, k: usize) -> u64 {
+        self.threads[k]
+            .members
+            .iter()
+            .enumerate()
+            .filter(|&(_, &i)| self.active_ready(&st.cfg, i))
+            .map(|(slot, _)| 1u64 << slot)
+            .sum()
+    }
+
+    /// Clock resets and thread bookkeeping after the untimed configuration
+    /// changed from `before` to `st.cfg`; `requested` is the member whose
+    /// request was accepted, `initial` marks the component start.
+    fn bookkeep(&self, before: &Config, st: &mut TState, requested: Option<usize>, initial: bool) {
+        let autos_acknowledged = !before.init_done && st.cfg.init_done;
+        for i in 0..self.sys.len() {
+            let auto = self.c.services[self.sys.service(i)].kind == ServiceKind::Auto;
+            let acked = requested == Some(i)
+                || (autos_acknowledged && auto)
+                || (initial && System::has_instance(&st.cfg, i));
+            let change = self.change(before, &st.cfg, i, acked);
+            self.instance_clocks(before, st, i, change);
+            self.instance_threads(st, i, change);
+        }
+    }
+
+    /// What happened to member `i`'s instances.
+    fn change(&self, before: &Config, after: &Config, i: usize, acked: bool) -> Change {
+        let start = self.sys.machine_of(i).start;
+        let started = before.pending[i].is_some()
+            && after.pending[i].is_none()
+            && start.is_some_and(|p| after.main[i] == p && before.main[i] != p);
+        let started = started || (acked && after.pending[i].is_none() && after.main[i] != IDLE);
+        let ended = before.main[i] != IDLE && (after.main[i] == IDLE || started);
+        Change {
+            acked,
+            started,
+            ended,
+        }
+    }
+
+    /// Watchdog clocks: reset at acknowledgment, carried along when the
+    /// pending instance changes clock or starts, freed when unused.
+    fn instance_clocks(&self, before: &Config, st: &mut TState, i: usize, ch: Change) {
+        let Some((main, pend)) = self.watch[i] else {
+            return;
+        };
+        let pend_clock = |cfg: &Config| if cfg.main[i] == IDLE { main } else { pend };
+        if ch.acked {
+            let clock = if ch.started {
+                main
+            } else {
+                pend_clock(&st.cfg)
+            };
+            st.zone.reset(clock);
+        } else if before.pending[i].is_some() {
+            let from = pend_clock(before);
+            let to = if ch.started {
+                main
+            } else {
+                pend_clock(&st.cfg)
+            };
+            if from != to && (ch.started || st.cfg.pending[i].is_some()) {
+                st.zone.copy(to, from);
+            }
+        }
+        let main_live =
+            self.watchable(&st.cfg, i) || (st.cfg.pending[i].is_some() && st.cfg.main[i] == IDLE);
+        let pend_live = pend != main && st.cfg.pending[i].is_some() && st.cfg.main[i] != IDLE;
+        if !main_live {
+            st.zone.free(main);
+        }
+        if pend != main && !pend_live {
+            st.zone.free(pend);
+        }
+    }
+
+    /// Eligibility in the current period and acknowledgment order.
+    fn instance_threads(&self, st: &mut TState, i: usize, ch: Change) {
+        let Some((k, slot)) = self.placement[i] else {
+            return;
+        };
+        if ch.ended {
+            st.eligible[k] &= !(1u64 << slot);
+        }
+        let s = u8::try_from(slot).unwrap_or(u8::MAX);
+        if ch.acked {
+            st.order[k].retain(|&x| x != s);
+            st.order[k].push(s);
+        } else if !System::has_instance(&st.cfg, i) {
+            st.order[k].retain(|&x| x != s);
+        }
+    }
+
+    /// The successor of `st` by `a`, before time passes; `None` when not
+    /// enabled or the guard is not satisfiable.
+    pub fn fire(
+        &self,
+        st: &TState,
+        a: TAction,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<TState> {
+        if st.violation.is_some() {
+            return None;
+        }
+        let mut next = st.clone();
+        match a {
+            TAction::Step(action) => self.fire_step(st, &mut next, action, events)?,
+            TAction::RequestBegin(s) => {
+                let i = self.sys.member_index(s)?;
+                if self.ctl_wcet[i].is_none()
+                    || !self.request_open(st, i)
+                    || self.thread_waits_for(st, i)
+                {
+                    return None;
+                }
+                next.ctl = Some(u16::try_from(i).ok()?);
+                next.zone.reset(self.ctl_clock);
+                self.emit_control(events, s, true);
+            }
+            TAction::RequestEnd(s, accept) => {
+                let i = self.sys.member_index(s)?;
+                if st.ctl != Some(u16::try_from(i).ok()?) {
+                    return None;
+                }
+                next.ctl = None;
+                if accept {
+                    next.cfg = self.sys.apply(&st.cfg, Action::Request(s), events)?;
+                    self.bookkeep(&st.cfg, &mut next, Some(i), false);
+                } else {
+                    if self.c.services[s].reports.is_empty() {
+                        return None;
+                    }
+                    self.emit_control(events, s, false);
+                }
+            }
+            TAction::WakeUp(k) => {
+                let k = usize::from(k);
+                let (p, x) = (self.threads.get(k)?.period?, self.threads[k].period_clock?);
+                if !next.zone.lower(x, p) {
+                    return None;
+                }
+                self.emit_wake(events, k);
+                self.wake(&mut next, k);
+            }
+            TAction::Round(k) => {
+                let k = usize::from(k);
+                if !self.round_enabled(st, k) {
+                    return None;
+                }
+                next.eligible[k] = self.fresh_round(st, k);
+            }
+        }
+        Some(next)
+    }
+
+    fn fire_step(
+        &self,
+        st: &TState,
+        next: &mut TState,
+        action: Action,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<()> {
+        let i = self.sys.member_index(action.service())?;
+        match action {
+            Action::Request(_) => {
+                if self.ctl_wcet[i].is_some() || !self.request_open(st, i) {
+                    return None;
+                }
+            }
+            Action::Begin(_) => {
+                if !self.may_begin(st, i) {
+                    return None;
+                }
+                let (k, _) = self.placement[i]?;
+                next.zone.reset(self.threads[k].exec_clock);
+            }
+            Action::Finish(..) => {
+                let (k, slot) = self.placement[i]?;
+                next.eligible[k] &= !(1u64 << slot);
+            }
+            Action::Watchdog(_, pending) => {
+                if let (Some((main, pend)), Some(max)) = (self.watch[i], self.max_time[i]) {
+                    let clock = if pending && st.cfg.main[i] != IDLE {
+                        pend
+                    } else {
+                        main
+                    };
+                    if !next.zone.lower(clock, max) {
+                        return None;
+                    }
+                }
+            }
+        }
+        next.cfg = self.sys.apply(&st.cfg, action, events)?;
+        let requested = matches!(action, Action::Request(_)).then_some(i);
+        self.bookkeep(&st.cfg, next, requested, false);
+        Some(())
+    }
+
+    /// The symbolic successor: fire, then let time pass.
+    pub fn post(&self, st: &TState, a: TAction) -> Option<TState> {
+        let fired = self.fire(st, a, &mut None)?;
+        let settled = self.settle_with(fired, self.extrapolate);
+        (!settled.zone.is_empty()).then_some(settled)
+    }
+
+    fn emit_control(&self, events: &mut Option<&mut Vec<TraceStep>>, s: ServiceId, begin: bool) {
+        let Some(sink) = events.as_deref_mut() else {
+            return;
+        };
+        let svc = &self.c.services[s];
+        let (event, text) = if begin {
+            (
+                genom_model::Event::Request,
+                format!(
+                    "a client requests `{}`; its control codel runs",
+                    svc.name.name
+                ),
+            )
+        } else {
+            (
+                genom_model::Event::Reject,
+                format!(
+                    "the control codel of `{}` rejects the request",
+                    svc.name.name
+                ),
+            )
+        };
+        let mut step = TraceStep::new(event, text);
+        step.service = Some(svc.name.name.clone());
+        step.thread = Some("control".to_owned());
+        step.codel = svc.control.map(|k| self.c.codels[k].name.name.clone());
+        step.span = Some(
+            svc.control
+                .map_or(svc.name.span, |k| self.c.codels[k].name.span),
+        );
+        if !begin {
+            step.outcome = svc.reports.first().map(|r| r.name.clone());
+        }
+        sink.push(step);
+    }
+
+    fn emit_wake(&self, events: &mut Option<&mut Vec<TraceStep>>, k: usize) {
+        let Some(sink) = events.as_deref_mut() else {
+            return;
+        };
+        let t = &self.c.threads[self.threads[k].id];
+        let mut step = TraceStep::new(
+            genom_model::Event::WakeUp,
+            format!("thread `{}` wakes up", t.name.name),
+        );
+        step.thread = Some(t.name.name.clone());
+        step.span = Some(t.name.span);
+        sink.push(step);
+    }
+
+    /// The enabled actions of a state (their guards may still be empty).
+    pub fn enabled(&self, st: &TState, out: &mut Vec<TAction>) {
+        if st.violation.is_some() {
+            return;
+        }
+        let mut steps = Vec::new();
+        self.sys.actions(&st.cfg, &mut steps);
+        for a in steps {
+            let i = self.sys.member_index(a.service());
+            match a {
+                Action::Request(s) => match i.and_then(|i| self.ctl_wcet[i]) {
+                    Some(_) => out.push(TAction::RequestBegin(s)),
+                    None => out.push(TAction::Step(a)),
+                },
+                _ => out.push(TAction::Step(a)),
+            }
+        }
+        if let Some(r) = st.ctl {
+            let s = self.sys.service(usize::from(r));
+            out.extend([TAction::RequestEnd(s, true), TAction::RequestEnd(s, false)]);
+        }
+        for (k, t) in self.threads.iter().enumerate() {
+            let k = u16::try_from(k).unwrap_or(u16::MAX);
+            out.push(if t.period.is_some() {
+                TAction::WakeUp(k)
+            } else {
+                TAction::Round(k)
+            });
+        }
+    }
+}
+
+/// Words holding the acknowledgment order of `slots` slots (7 bits each,
+/// 9 per word).
+fn order_words(slots: usize) -> usize {
+    slots.div_ceil(9).max(1)
+}
+
+/// The threads of the members, with their clocks.
+fn threads(c: &Component, sys: &System<'_>, unit: u64, clocks: &mut Clocks) -> Vec<TThread> {
+    let mut out: Vec<TThread> = Vec::new();
+    for i in 0..sys.len() {
+        let Some(t) = c.services[sys.service(i)].thread.map(|t| t.id) else {
+            continue;
+        };
+        match out.iter_mut().find(|x| x.id == t) {
+            Some(x) => x.members.push(i),
+            None => out.push(TThread {
+                id: t,
+                period: None,
+                members: vec![i],
+                period_clock: None,
+                exec_clock: 0,
+            }),
+        }
+    }
+    out.sort_by_key(|t| t.id);
+    for t in &mut out {
+        t.period = c.threads[t.id].period.map(|p| units(p.ns, unit));
+        t.period_clock = t
+            .period
+            .map(|p| clocks.add(ClockRole::Period(t.id), Some(p), Some(p)));
+        t.exec_clock = clocks.add(ClockRole::Exec(Some(t.id)), None, None);
+    }
+    out
+}
+
+/// The watchdog clocks: one per service with `max-time`, two for a
+/// self-stopping one (its pending instance has its own).
+fn watch_clocks(
+    c: &Component,
+    sys: &System<'_>,
+    max_time: &[Option<i64>],
+    clocks: &mut Clocks,
+) -> Vec<Option<(usize, usize)>> {
+    (0..sys.len())
+        .map(|i| {
+            let m = max_time[i]?;
+            let s = sys.service(i);
+            let main = clocks.add(ClockRole::Watch(s), Some(m), Some(m + 1));
+            let self_stop = c.services[s].stops.iter().any(|r| r.id == s);
+            let pend = if self_stop {
+                clocks.add(ClockRole::WatchPending(s), Some(m), Some(m + 1))
+            } else {
+                main
+            };
+            Some((main, pend))
+        })
+        .collect()
+}
+
+/// Upper bounds of the execution clocks: the largest WCET they run.
+fn bound_exec_clocks(
+    c: &Component,
+    sys: &System<'_>,
+    threads: &[TThread],
+    ctl_wcet: &[Option<i64>],
+    wcet: &[i64],
+    ctl_clock: usize,
+    clocks: &mut Clocks,
+) {
+    for t in threads {
+        let worst = t
+            .members
+            .iter()
+            .flat_map(|&i| c.services[sys.service(i)].codels.iter())
+            .map(|k| wcet[k.0 as usize])
+            .max()
+            .unwrap_or(0);
+        clocks.raise_upper(t.exec_clock, worst);
+    }
+    clocks.raise_upper(
+        ctl_clock,
+        ctl_wcet.iter().flatten().copied().max().unwrap_or(0),
+    );
+}
+
+impl Model for TimedSystem<'_> {
+    type State = TState;
+    type Action = TAction;
+    type Zone = Dbm;
+
+    fn width(&self) -> usize {
+        self.width
+    }
+
+    fn init_states(&self) -> Vec<TState> {
+        vec![self.initial_state(&mut None)]
+    }
+
+    fn actions(&self, st: &TState, out: &mut Vec<TAction>) {
+        self.enabled(st, out);
+    }
+
+    fn next_state(&self, st: &TState, a: TAction) -> Option<TState> {
+        self.post(st, a)
+    }
+
+    fn encode(&self, st: &TState, out: &mut Vec<u64>) {
+        self.sys.encode(&st.cfg, out);
+        for (k, t) in self.threads.iter().enumerate() {
+            out.push(st.eligible[k]);
+            let words = order_words(t.members.len());
+            let mut packed = vec![0u64; words];
+            for (n, &slot) in st.order[k].iter().enumerate() {
+                packed[n / 9] |= (u64::from(slot) + 1) << (7 * (n % 9));
+            }
+            out.extend(packed);
+        }
+        let ctl = st.ctl.map_or(0, |r| u64::from(r) + 1);
+        let violation = match st.violation {
+            None => 0,
+            Some(Violation::Overrun(k)) => u64::from(k) + 1,
+        };
+        out.push(ctl | (violation << 32));
+    }
+
+    fn decode(&self, words: &[u64], zone: &Dbm) -> TState {
+        let mut at = self.sys.width();
+        let cfg = self.sys.decode(&words[..at], &());
+        let n = self.threads.len();
+        let mut eligible = Vec::with_capacity(n);
+        let mut order = Vec::with_capacity(n);
+        for t in &self.threads {
+            eligible.push(words[at]);
+            let count = order_words(t.members.len());
+            let list = (0..count * 9)
+                .map(|n| (words[at + 1 + n / 9] >> (7 * (n % 9))) & 127)
+                .take_while(|&v| v != 0)
+                .map(|v| u8::try_from(v - 1).unwrap_or(u8::MAX))
+                .collect();
+            order.push(list);
+            at += 1 + count;
+        }
+        let last = words[at];
+        let ctl = u16::try_from(last & 0xFFFF_FFFF)
+            .ok()
+            .and_then(|v| v.checked_sub(1));
+        let violation = u16::try_from(last >> 32)
+            .ok()
+            .and_then(|v| v.checked_sub(1))
+            .map(Violation::Overrun);
+        TState {
+            cfg,
+            eligible,
+            order,
+            ctl,
+            violation,
+            zone: zone.clone(),
+        }
+    }
+
+    fn zone(&self, st: &TState) -> Dbm {
+        st.zone.clone()
+    }
+
+    fn expand(&self, st: &TState) -> bool {
+        st.violation.is_none()
+    }
+}
