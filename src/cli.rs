@@ -48,6 +48,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Explain a diagnostic code.
     Explain(ExplainArgs),
+    /// Export the verified model: uppaal, fiacre, tchecker, pnml, tina, config, dot, svg, promela.
+    Export(ExportArgs),
     /// Print a random valid component (for benchmarks and tests).
     #[command(hide = true)]
     Generate(GenerateArgs),
@@ -103,6 +105,57 @@ fn parse_size(text: &str) -> Result<usize, String> {
         .and_then(|n| n.checked_mul(factor))
         .filter(|&n| n > 0)
         .ok_or_else(|| format!("`{text}` is not a size such as `512M` or `4G`"))
+}
+
+/// Arguments of `export`.
+#[derive(Debug, Clone, Args)]
+pub struct ExportArgs {
+    /// The format.
+    #[arg(value_enum, value_name = "FORMAT")]
+    pub target: ExportFormat,
+
+    /// The component description file.
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// Write to this file (and companion files next to it) instead of stdout.
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+
+    /// Export even when verification found errors or is incomplete (marked unverified).
+    #[arg(long)]
+    pub allow_unverified: bool,
+
+    /// Stop exploring after this many states (then `incomplete`).
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub max_states: usize,
+
+    /// Stop exploring after this long, e.g. `30s` (then `incomplete`).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub timeout: Option<std::time::Duration>,
+}
+
+/// Export formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ExportFormat {
+    /// UPPAAL XML model and query file.
+    Uppaal,
+    /// Fiacre model (frac, TINA).
+    Fiacre,
+    /// TChecker timed automata.
+    Tchecker,
+    /// PNML Petri net.
+    Pnml,
+    /// TINA .net Petri net.
+    Tina,
+    /// Verified runtime configuration (JSON).
+    Config,
+    /// Graphviz diagrams.
+    Dot,
+    /// SVG diagrams.
+    Svg,
+    /// Promela model of the untimed semantics (SPIN).
+    Promela,
 }
 
 /// Arguments of `explain`.

@@ -121,8 +121,10 @@ fn json_output_has_the_documented_shape() {
     assert_eq!(doc["files"][1]["path"], "specs/pilot.gen");
     assert_eq!(
         doc["files"][1]["diagnostics"].as_array().map(Vec::len),
-        Some(0)
+        Some(1)
     );
+    assert_eq!(doc["files"][1]["diagnostics"][0]["code"], "missing-wcet");
+    assert_eq!(doc["files"][1]["diagnostics"][0]["severity"], "advice");
     let first = &doc["files"][0]["diagnostics"][0];
     assert_eq!(first["code"], "syntax");
     assert_eq!(first["severity"], "error");
@@ -137,7 +139,7 @@ fn json_output_has_the_documented_shape() {
     assert!(first["help"].is_null() && first["trace"].is_null());
     assert_eq!(doc["summary"]["errors"], 3);
     assert_eq!(doc["summary"]["warnings"], 0);
-    assert_eq!(doc["summary"]["advice"], 0);
+    assert_eq!(doc["summary"]["advice"], 1);
 }
 
 #[test]

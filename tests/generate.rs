@@ -29,14 +29,18 @@ fn generated(args: &[&str]) -> String {
     String::from_utf8(out.stdout).expect("UTF-8")
 }
 
-/// Behavioural verdicts: the only errors a generated component may get.
-const BEHAVIOURAL: [&str; 6] = [
+/// Behavioural and timing verdicts (and `incomplete`, when a limit
+/// stops the exploration): the only errors a generated component may get.
+const BEHAVIOURAL: [&str; 9] = [
     "deadlock",
     "starvation",
     "dead-service",
     "unbounded-interrupt",
-    "incomplete",
+    "codel-overrun",
     "thread-overrun",
+    "max-time-infeasible",
+    "max-time-exceeded",
+    "incomplete",
 ];
 
 #[test]
@@ -101,70 +105,20 @@ fn bad_generator_arguments_are_usage_errors() {
 #[test]
 fn generated_components_check_with_behavioural_verdicts_only() {
     let dir = tempfile::tempdir().expect("temporary directory");
-    let cases: [&[&str]; 7] = [
-        &["--services", "5", "--codels", "3"],
-        &[
-            "--services",
-            "6",
-            "--codels",
-            "3",
-            "--threads",
-            "2",
-            "--density",
-            "0.5",
-            "--init",
-        ],
-        &[
-            "--services",
-            "6",
-            "--codels",
-            "4",
-            "--threads",
-            "2",
-            "--autos",
-            "1",
-            "--timed",
-        ],
-        &[
-            "--services",
-            "8",
-            "--codels",
-            "2",
-            "--threads",
-            "3",
-            "--density",
-            "0.3",
-            "--init",
-            "--autos",
-            "2",
-            "--timed",
-        ],
-        &[
-            "--services",
-            "5",
-            "--codels",
-            "3",
-            "--density",
-            "2",
-            "--setters",
-            "0.3",
-        ],
-        &[
-            "--services",
-            "10",
-            "--codels",
-            "5",
-            "--threads",
-            "2",
-            "--density",
-            "0.3",
-        ],
+    let cases = [
+        "--services 5 --codels 3",
+        "--services 6 --codels 3 --threads 2 --density 0.5 --init",
+        "--services 6 --codels 4 --threads 2 --autos 1 --timed",
+        "--services 8 --codels 2 --threads 3 --density 0.3 --init --autos 2 --timed",
+        "--services 5 --codels 3 --density 2 --setters 0.3",
+        "--services 6 --codels 3 --threads 2 --density 0.3 --self-stops 0.5 --init",
+        "--services 10 --codels 5 --threads 2 --density 0.3",
     ];
     for (i, case) in cases.iter().enumerate() {
         for seed in 0..3 {
             let seed = seed.to_string();
             let mut args = vec!["--seed", seed.as_str()];
-            args.extend_from_slice(case);
+            args.extend(case.split_whitespace());
             let path = dir.path().join(format!("g{i}-{seed}.gen"));
             std::fs::write(&path, generated(&args)).expect("written");
 
@@ -178,7 +132,14 @@ fn generated_components_check_with_behavioural_verdicts_only() {
 
             // The whole check: exit 1 only for behavioural verdicts.
             let out = genom_check()
-                .args(["--format", "json", "--max-states", "200000"])
+                .args([
+                    "--format",
+                    "json",
+                    "--max-states",
+                    "200000",
+                    "--timeout",
+                    "30s",
+                ])
                 .arg(&path)
                 .output()
                 .expect("runs");
@@ -194,7 +155,7 @@ fn generated_components_check_with_behavioural_verdicts_only() {
             let stats = &file["statistics"];
             eprintln!(
                 "generate --seed {seed} {}: exit {:?}, errors {errors:?}, {} states",
-                case.join(" "),
+                case,
                 out.status.code(),
                 stats["states"]
             );

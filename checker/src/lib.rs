@@ -4,6 +4,8 @@
 //! its diagnostics; [`check_file`] runs them in order and returns
 //! everything, sorted.
 
+#[cfg(feature = "smt")]
+pub mod budget;
 pub mod checks;
 pub mod engine;
 pub mod explain;

@@ -1,3 +1,165 @@
-//! Exports of verified models: UPPAAL, Fiacre, TChecker, PNML/TINA, the
-//! runtime configuration and diagrams. The formats are added with the
-//! exports issue; this crate is part of the workspace layout from the start.
+//! Exports of a verified component: models for the established checkers
+//! (UPPAAL, Fiacre/TINA, TChecker, PNML/TINA Petri nets), the verified
+//! runtime configuration for the execution engine, and diagrams. Every
+//! export is built from the same resolved model, local machines, Petri net
+//! and timed-automata network as the internal engines, so it means what
+//! genom-check verified. Exports return text; only the binary writes files.
+
+pub mod config;
+pub mod dot;
+pub mod fiacre;
+pub mod pnml;
+pub mod promela;
+pub mod svg;
+pub mod tchecker;
+pub mod tina;
+pub mod uppaal;
+
+use genom_model::component::Component;
+use genom_model::{Counts, SourceMap};
+
+/// An output format of `genom-check export`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Format {
+    /// UPPAAL XML model, with its query file.
+    Uppaal,
+    /// Fiacre model for the frac compiler and TINA.
+    Fiacre,
+    /// TChecker timed automata.
+    Tchecker,
+    /// PNML Petri net.
+    Pnml,
+    /// TINA `.net` Petri net.
+    Tina,
+    /// Verified runtime configuration (JSON).
+    Config,
+    /// Graphviz diagrams.
+    Dot,
+    /// SVG diagrams rendered in-process.
+    Svg,
+    /// Promela model of the untimed semantics, for SPIN.
+    Promela,
+}
+
+impl Format {
+    /// Every format, in the order of the documentation.
+    pub const ALL: [Format; 9] = [
+        Format::Uppaal,
+        Format::Fiacre,
+        Format::Tchecker,
+        Format::Pnml,
+        Format::Tina,
+        Format::Config,
+        Format::Dot,
+        Format::Svg,
+        Format::Promela,
+    ];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Uppaal => "uppaal",
+            Format::Fiacre => "fiacre",
+            Format::Tchecker => "tchecker",
+            Format::Pnml => "pnml",
+            Format::Tina => "tina",
+            Format::Config => "config",
+            Format::Dot => "dot",
+            Format::Svg => "svg",
+            Format::Promela => "promela",
+        }
+    }
+
+    /// The usual file extension of the main output.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Uppaal => "xml",
+            Format::Fiacre => "fcr",
+            Format::Tchecker => "tck",
+            Format::Pnml => "pnml",
+            Format::Tina => "net",
+            Format::Config => "json",
+            Format::Dot => "dot",
+            Format::Svg => "svg",
+            Format::Promela => "pml",
+        }
+    }
+}
+
+/// What verification established, recorded in exports that carry it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Verification {
+    /// No error, and exploration was complete.
+    pub verified: bool,
+    /// Diagnostics by severity.
+    pub counts: Counts,
+    /// States explored.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+    /// Whether exploration covered the whole state space.
+    pub complete: bool,
+    /// The properties proven (empty when not verified).
+    pub properties: Vec<String>,
+    /// genom-check's version.
+    pub tool_version: String,
+}
+
+/// Everything an export needs.
+#[derive(Debug, Clone, Copy)]
+pub struct ExportInput<'a> {
+    /// The resolved component.
+    pub component: &'a Component,
+    /// The checked file and its includes (for hashes and names).
+    pub sources: &'a SourceMap,
+    /// The verification results.
+    pub verification: &'a Verification,
+}
+
+/// The text of an export: the main file and companion files (a suffix such
+/// as `.q` and their text), written next to the main one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Exported {
+    /// The main output.
+    pub main: String,
+    /// Companion files: (file-name suffix replacing the extension, text).
+    pub extra: Vec<(String, String)>,
+}
+
+impl Exported {
+    /// A single-file export.
+    pub fn single(main: String) -> Self {
+        Exported {
+            main,
+            extra: Vec::new(),
+        }
+    }
+}
+
+/// Why an export could not be produced.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ExportError {
+    /// The format cannot express something in this component.
+    #[error("cannot export to {format}: {reason}")]
+    Unsupported {
+        /// The format.
+        format: &'static str,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Exports the component in `format`.
+pub fn export(format: Format, input: &ExportInput<'_>) -> Result<Exported, ExportError> {
+    match format {
+        Format::Uppaal => uppaal::export(input),
+        Format::Fiacre => fiacre::export(input),
+        Format::Tchecker => tchecker::export(input),
+        Format::Pnml => pnml::export(input),
+        Format::Tina => tina::export(input),
+        Format::Config => config::export(input),
+        Format::Dot => dot::export(input),
+        Format::Svg => svg::export(input),
+        Format::Promela => promela::export(input),
+    }
+}

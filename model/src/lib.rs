@@ -11,6 +11,7 @@ pub mod petri;
 pub mod render;
 pub mod span;
 pub mod stats;
+pub mod timed_automata;
 pub mod trace;
 
 pub use diagnostic::{Code, Counts, Diagnostic, Label, Severity, sort_diagnostics};

@@ -2,6 +2,7 @@
 
 mod check;
 mod explain;
+mod export;
 mod generate;
 
 use crate::cli::{Cli, Command};
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> u8 {
     match cli.command {
         Some(Command::Check(args)) => check::run(&args, &cli.output),
         Some(Command::Explain(args)) => explain::run(&args),
+        Some(Command::Export(args)) => export::run(&args, &cli.output),
         Some(Command::Generate(args)) => generate::run(&args),
         None => check::run(&cli.check, &cli.output),
     }

@@ -291,6 +291,7 @@ mod tests {
         let helps: Vec<&str> = r
             .diagnostics
             .iter()
+            .filter(|d| d.code == Code::BadOnInter)
             .filter_map(|d| d.help.as_deref())
             .collect();
         assert_eq!(

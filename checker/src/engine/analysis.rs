@@ -507,7 +507,7 @@ pub(crate) fn replay(
 
 /// A path of codel steps of member `i` from its position to a position on a
 /// cycle, and the cycle itself (empty when there is none).
-fn local_loop(sys: &System<'_>, cfg: &Config, i: usize) -> (Vec<Action>, Vec<Action>) {
+pub(crate) fn local_loop(sys: &System<'_>, cfg: &Config, i: usize) -> (Vec<Action>, Vec<Action>) {
     let start = cfg.main[i];
     let mut seen = vec![start];
     let mut k = 0;

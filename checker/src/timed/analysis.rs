@@ -15,7 +15,7 @@ use genom_model::component::{Component, Outcome, ServiceId, ThreadId};
 use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::model::{TState, TimedSystem, Violation};
-use super::trace::{Target, exceeded_zone, timed_trace};
+use super::trace::{Target, exceeded_zone, timed_lasso, timed_trace};
 use crate::engine::analysis::{Analysis, Found, Witnesses, collect, finish_dead, visit};
 use crate::engine::explore::{Limits, explore};
 use crate::engine::store::StateId;
@@ -113,8 +113,12 @@ fn explore_timed(
         out.unproven.extend(members.iter().copied());
     }
     let config = |id: StateId| e.store_config(&ts, id).cfg;
-    let trace = |id: StateId, _looping: Option<ServiceId>, last: TraceStep| {
-        timed_trace(&ts, &e.store.path(id), Target::Any, last)
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        let path = e.store.path(id);
+        match looping.and_then(|s| ts.sys.member_index(s)) {
+            Some(i) => timed_lasso(&ts, &path, i, last),
+            None => timed_trace(&ts, &path, Target::Any, last),
+        }
     };
     collect(
         &Witnesses {

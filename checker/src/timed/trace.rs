@@ -8,7 +8,13 @@
 use genom_model::trace::{Trace, TraceStep};
 
 use super::model::{TAction, TState, TimedSystem};
+use crate::engine::analysis::local_loop;
+use crate::engine::system::Action;
 use crate::zones::dbm::{Dbm, lt};
+
+/// How many extra steps the lasso of a looping trace may take per codel
+/// step of the loop (wake-ups and other threads' work in between).
+const LASSO_PATIENCE: usize = 64;
 
 /// What the last state of the trace must show.
 #[derive(Debug, Clone, Copy)]
@@ -34,6 +40,95 @@ pub fn timed_trace(
     ts: &TimedSystem<'_>,
     path: &[TAction],
     target: Target,
+    last: TraceStep,
+) -> Trace {
+    instants(ts, path, target, None, last)
+}
+
+/// A concrete timed trace of `path` followed by member `looping`'s codel
+/// loop, marked as the cycle that may repeat forever. Without a loop that
+/// time allows, the trace is the path alone.
+pub fn timed_lasso(
+    ts: &TimedSystem<'_>,
+    path: &[TAction],
+    looping: usize,
+    last: TraceStep,
+) -> Trace {
+    match extend_with_loop(ts, path, looping) {
+        Some((full, at)) => instants(ts, &full, Target::Any, Some(at), last),
+        None => instants(ts, path, Target::Any, None, last),
+    }
+}
+
+/// `path` extended with member `i`'s codel loop, and the index in the
+/// result where the loop starts; the timed actions between the loop's
+/// codel steps are wake-ups and other work, chosen greedily.
+fn extend_with_loop(
+    ts: &TimedSystem<'_>,
+    path: &[TAction],
+    i: usize,
+) -> Option<(Vec<TAction>, usize)> {
+    let mut st = ts.start(0, false, &mut None);
+    for &a in path {
+        st = ts.settle_with(ts.fire(&st, a, &mut None)?, false);
+    }
+    let (before, cycle) = local_loop(&ts.sys, &st.cfg, i);
+    if cycle.is_empty() {
+        return None;
+    }
+    let mut full = path.to_vec();
+    for &a in &before {
+        st = reach(ts, st, a, &mut full)?;
+    }
+    let at = full.len();
+    for &a in &cycle {
+        st = reach(ts, st, a, &mut full)?;
+    }
+    Some((full, at))
+}
+
+/// Fires untimed step `a` from `st`, after as few other timed actions as
+/// the greedy choice finds (wake-ups first); records them all in `out`.
+fn reach(
+    ts: &TimedSystem<'_>,
+    mut st: TState,
+    a: Action,
+    out: &mut Vec<TAction>,
+) -> Option<TState> {
+    for _ in 0..LASSO_PATIENCE {
+        let mut enabled = Vec::new();
+        ts.enabled(&st, &mut enabled);
+        let step = |x: TAction| {
+            let next = ts.settle_with(ts.fire(&st, x, &mut None)?, false);
+            (!next.zone.is_empty()).then_some(next)
+        };
+        if let Some(next) = step(TAction::Step(a)) {
+            out.push(TAction::Step(a));
+            return Some(next);
+        }
+        let filler = enabled
+            .iter()
+            .filter(|x| matches!(x, TAction::WakeUp(_) | TAction::Round(_)))
+            .chain(
+                enabled
+                    .iter()
+                    .filter(|x| matches!(x, TAction::Step(Action::Begin(_) | Action::Finish(..)))),
+            )
+            .find_map(|&x| step(x).map(|n| (x, n)));
+        let (x, next) = filler?;
+        out.push(x);
+        st = next;
+    }
+    None
+}
+
+/// The concrete instants of `path`; `loop_from` is the index in `path` of
+/// the first action of the repeating cycle.
+fn instants(
+    ts: &TimedSystem<'_>,
+    path: &[TAction],
+    target: Target,
+    loop_from: Option<usize>,
     mut last: TraceStep,
 ) -> Trace {
     let base = ts.clock_count();
@@ -59,12 +154,12 @@ pub fn timed_trace(
     if let Target::Exceeded { member, clock, max } = target {
         zone = exceeded_zone(ts, &st, member, clock, max);
     }
+    let loop_start = loop_from
+        .and_then(|k| marks.get(k + 1))
+        .map(|&(_, first)| first);
     let Some((values, scale)) = zone.pick() else {
         steps.push(last);
-        return Trace {
-            steps,
-            loop_start: None,
-        };
+        return Trace { steps, loop_start };
     };
     let now = values[base];
     let to_ns = |units_scaled: i64| {
@@ -82,10 +177,7 @@ pub fn timed_trace(
     }
     last.time_ns = Some(to_ns(now));
     steps.push(last);
-    Trace {
-        steps,
-        loop_start: None,
-    }
+    Trace { steps, loop_start }
 }
 
 /// The valuations reached by letting time pass after `st` while ignoring

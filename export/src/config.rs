@@ -1,0 +1,801 @@
+//! The `config` export: the verified runtime configuration of the component
+//! as one JSON document, for the execution engine. It carries what the
+//! engine needs to run the component as it was verified (threads with their
+//! periods, services with their compatibility matrix, codels with their
+//! outcome tables and WCETs, the lock groups) and the evidence of the
+//! verification (verdict, properties proven, SHA-256 of every source file).
+//!
+//! The document is described by Rust types deriving [`serde::Serialize`]
+//! and [`schemars::JsonSchema`]; [`schema`] gives its JSON Schema, committed
+//! as `export/schema/runtime-config.schema.json`. The output is
+//! deterministic: fields in declaration order, lists in source order, maps
+//! with sorted keys, no timestamp.
+
+use std::collections::BTreeMap;
+
+use genom_model::Counts;
+use genom_model::SourceMap;
+use genom_model::component::types::TypeTable;
+use genom_model::component::{
+    Codel, CodelId, Component, DataPath, DataRoot, Outcome, Param, ServiceId, StructureId, Value,
+};
+use genom_model::kinds::{CodelKind, DataKind, ServiceKind};
+use schemars::JsonSchema;
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+use crate::{ExportError, ExportInput, Exported};
+
+/// The value of the `format` field.
+pub const FORMAT: &str = "genom-check/runtime-config";
+
+/// The version of the document layout (`format_version`).
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The name of the implicit control thread, as used in `lock_groups`.
+pub const CONTROL_THREAD: &str = "control";
+
+/// The verified runtime configuration of one component.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[schemars(title = "genom-check runtime configuration")]
+pub struct RuntimeConfig {
+    /// Always `genom-check/runtime-config`.
+    #[schemars(extend("const" = "genom-check/runtime-config"))]
+    pub format: String,
+    /// The layout version; fields may be added without a bump, never
+    /// removed or renamed.
+    pub format_version: u32,
+    /// The component item.
+    pub component: ComponentInfo,
+    /// The declared execution threads, in source order (the implicit
+    /// `control` thread is not listed).
+    pub threads: Vec<ThreadInfo>,
+    /// The services, in source order.
+    pub services: Vec<ServiceInfo>,
+    /// Every codel of every service, grouped by service in source order.
+    pub codels: Vec<CodelInfo>,
+    /// Which codels must not run at the same time.
+    pub lock_groups: LockGroups,
+    /// What genom-check established, and about which files.
+    pub verification: VerificationInfo,
+}
+
+/// The `component` item.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct ComponentInfo {
+    /// Its name.
+    pub name: String,
+    /// `category`, `default` when absent: selects the execution engine.
+    pub category: String,
+    /// `lang`, the language of the codels (null when absent).
+    pub lang: Option<String>,
+    /// `version` (null when absent).
+    pub version: Option<String>,
+    /// `doc` (null when absent).
+    pub doc: Option<String>,
+    /// The credential classes, weakest first.
+    pub credentials: Vec<String>,
+}
+
+/// An execution thread.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct ThreadInfo {
+    /// Its name.
+    pub name: String,
+    /// Period in nanoseconds; null for an aperiodic thread (codels back to
+    /// back).
+    pub period_ns: Option<u64>,
+    /// Priority: higher runs first, 0 is normal.
+    pub priority: i64,
+    /// Stack size in bytes (null: the engine's default).
+    pub stack_bytes: Option<u64>,
+    /// Function called at thread creation (not a codel).
+    pub start_hook: Option<String>,
+    /// Function called at thread deletion (not a codel).
+    pub stop_hook: Option<String>,
+}
+
+/// The kind of a service.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ServiceKindInfo {
+    /// Started on request.
+    Plain,
+    /// Must complete successfully before any other service is accepted.
+    Init,
+    /// Started by the component once initialised.
+    Auto,
+}
+
+/// A service.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct ServiceInfo {
+    /// Its name.
+    pub name: String,
+    /// `plain`, `init` or `auto`.
+    pub kind: ServiceKindInfo,
+    /// `doc` (null when absent).
+    pub doc: Option<String>,
+    /// The thread running its codels; null when it runs entirely in the
+    /// control thread (no start codel).
+    pub thread: Option<String>,
+    /// Deadline from acknowledgment to final reply, in nanoseconds (null:
+    /// none); enforced by the engine's watchdog.
+    pub max_time_ns: Option<u64>,
+    /// The weakest credential class allowed to request it.
+    pub credential: String,
+    /// The reports it may end with (besides `INTERRUPTED` and `TIMEOUT`).
+    pub reports: Vec<String>,
+    /// Input parameters, in order.
+    pub inputs: Vec<ParamInfo>,
+    /// Output parameters, in order.
+    pub outputs: Vec<ParamInfo>,
+    /// Imported structures it reads (`block.item`).
+    pub imports: Vec<String>,
+    /// Exported structures it produces (`block.item`).
+    pub exports: Vec<String>,
+    /// Its control codel's name (`control`), null when it has none.
+    pub control_codel: Option<String>,
+    /// Its start codel's name (`start`), null when it has none.
+    pub start_codel: Option<String>,
+    /// The names of its codels, in source order.
+    pub codels: Vec<String>,
+    /// For every service of the component (itself included), keyed by
+    /// name: how the two constrain each other.
+    pub compatibility: BTreeMap<String, Compatibility>,
+}
+
+/// How a service relates to one service of the component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+pub struct Compatibility {
+    /// A request of this service interrupts the other's instance (for the
+    /// service itself: a new request replaces the running instance; else a
+    /// request while it runs is rejected with `BUSY`).
+    pub stops: bool,
+    /// While this service has an instance, the other waits to start.
+    pub delays: bool,
+    /// While this service has an instance, requests of the other are
+    /// rejected with `FORBIDDEN`.
+    pub forbids: bool,
+    /// A request of the other interrupts this one's instance.
+    pub stopped_by: bool,
+    /// While the other has an instance, this one waits to start.
+    pub delayed_by: bool,
+    /// While the other has an instance, requests of this one are rejected
+    /// with `FORBIDDEN`.
+    pub forbidden_by: bool,
+}
+
+/// A service input or output parameter.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct ParamInfo {
+    /// Its name (for an IDS reference, the last member).
+    pub name: String,
+    /// Its type, as IDL writes it.
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Its default value (JSON: numbers, booleans, strings, enum values by
+    /// name, structs as objects, arrays), null when none.
+    pub default: Option<serde_json::Value>,
+    /// Documentation string.
+    pub doc: Option<String>,
+    /// For a reference into an IDS, the data it is stored into (input, when
+    /// the request is accepted) or read from (output, when the service
+    /// ends); null for a plain parameter.
+    pub data: Option<DataRef>,
+}
+
+/// A resolved data reference.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(tag = "root", rename_all = "lowercase")]
+pub enum DataRef {
+    /// Data in a lockable structure.
+    Structure {
+        /// The structure (`demoIds`, `demoExport.state`).
+        structure: String,
+        /// Which kind of block it belongs to.
+        kind: DataKindInfo,
+        /// The reference as written (`demoIds.distRef`).
+        path: String,
+    },
+    /// An input parameter of the codel's service.
+    Input {
+        /// The parameter's name.
+        param: String,
+        /// The reference as written.
+        path: String,
+    },
+    /// An output parameter of the codel's service.
+    Output {
+        /// The parameter's name.
+        param: String,
+        /// The reference as written.
+        path: String,
+    },
+}
+
+/// The kind of a lockable structure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DataKindInfo {
+    /// An `ids` block.
+    Ids,
+    /// An item of an `export` block.
+    Export,
+    /// An item of an `import` block.
+    Import,
+}
+
+/// The kind of a codel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum CodelKindInfo {
+    /// The start codel, first run on the service's thread.
+    Start,
+    /// The control codel, run by the control thread to validate a request.
+    Control,
+    /// An exec codel.
+    Exec,
+    /// An inter codel, run after an interruption.
+    Inter,
+}
+
+/// A codel.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct CodelInfo {
+    /// `service::name`, unique in the component (used by `lock_groups`).
+    pub id: String,
+    /// Its service.
+    pub service: String,
+    /// Its kind.
+    pub kind: CodelKindInfo,
+    /// Its name (`start`, `control`, or the declared name).
+    pub name: String,
+    /// The thread running it: `control` for a control codel, else the
+    /// service's thread (null when unknown).
+    pub thread: Option<String>,
+    /// The codel function (null when the codel has no `exec`).
+    pub function: Option<String>,
+    /// Its arguments, in order.
+    pub args: Vec<ArgInfo>,
+    /// Data written by the codel and refreshed/published after it runs.
+    pub update: Vec<DataRef>,
+    /// The inter codel run when the service is interrupted at this codel
+    /// (null: the service then ends with `INTERRUPTED`).
+    pub on_inter: Option<String>,
+    /// Worst-case execution time in nanoseconds (null: unknown).
+    pub wcet_ns: Option<u64>,
+    /// The possible outcomes (an absent or empty `next` is `end`); empty
+    /// for control codels, which accept or reject with a report.
+    pub next: Vec<OutcomeInfo>,
+}
+
+/// A codel argument.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct ArgInfo {
+    /// Passed read-only.
+    #[serde(rename = "const")]
+    pub is_const: bool,
+    /// The type of the data passed, as IDL writes it (null when it did not
+    /// resolve).
+    #[serde(rename = "type")]
+    pub ty: Option<String>,
+    /// The data passed (null when it did not resolve).
+    pub data: Option<DataRef>,
+}
+
+/// A codel outcome.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(tag = "outcome", rename_all = "lowercase")]
+pub enum OutcomeInfo {
+    /// Go to this codel of the same service.
+    Codel {
+        /// The codel's name.
+        codel: String,
+    },
+    /// End with this report.
+    Report {
+        /// The report's name.
+        report: String,
+    },
+    /// End successfully.
+    End,
+}
+
+/// The mutual exclusion the engine must enforce.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct LockGroups {
+    /// Every lockable structure, in declaration order, with the codels that
+    /// use it.
+    pub structures: Vec<LockGroup>,
+    /// Every pair of codels of different threads that must not run at the
+    /// same time, in codel order (`a` before `b`).
+    pub conflicts: Vec<Conflict>,
+}
+
+/// One lockable structure and its users.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct LockGroup {
+    /// The structure (`demoIds`, `demoExport.state`).
+    pub structure: String,
+    /// Which kind of block it belongs to.
+    pub kind: DataKindInfo,
+    /// Its type, as IDL writes it (the block name for an IDS block).
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// The codels passing it (or data in it) as an argument, in codel
+    /// order.
+    pub users: Vec<LockUser>,
+}
+
+/// A codel using a structure.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct LockUser {
+    /// The codel's id (`service::name`).
+    pub codel: String,
+    /// The thread running it.
+    pub thread: Option<String>,
+    /// Whether it may write the structure (a non-`const` argument).
+    pub writes: bool,
+}
+
+/// Two codels of different threads that conflict.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct Conflict {
+    /// The first codel's id.
+    pub a: String,
+    /// The second codel's id.
+    pub b: String,
+    /// The structures both use and at least one may write.
+    pub structures: Vec<String>,
+}
+
+/// What genom-check established.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct VerificationInfo {
+    /// Always `genom-check`.
+    pub tool: String,
+    /// genom-check's version.
+    pub tool_version: String,
+    /// True only when the check found no error and explored the whole
+    /// state space; false for `--allow-unverified` exports that were not.
+    pub verified: bool,
+    /// The checked file.
+    pub source: SourceHash,
+    /// The files it includes, in load order.
+    pub includes: Vec<SourceHash>,
+    /// Diagnostics by severity.
+    pub counts: CountsInfo,
+    /// States explored.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+    /// Whether exploration covered the whole state space.
+    pub complete: bool,
+    /// The properties proven (empty when not verified).
+    pub properties: Vec<String>,
+}
+
+/// A file and the SHA-256 of its text.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, JsonSchema)]
+pub struct SourceHash {
+    /// The path as given (on the command line, or resolved from the
+    /// including file), with `/` separators.
+    pub path: String,
+    /// SHA-256 of the file's bytes, lowercase hexadecimal.
+    #[schemars(regex(pattern = r"^[0-9a-f]{64}$"))]
+    pub sha256: String,
+}
+
+/// Diagnostics by severity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+pub struct CountsInfo {
+    /// Errors.
+    pub errors: u64,
+    /// Warnings.
+    pub warnings: u64,
+    /// Advice.
+    pub advice: u64,
+}
+
+/// Exports the component as its runtime configuration (JSON).
+pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
+    let config = build(input);
+    let mut text = serde_json::to_string_pretty(&config).map_err(|e| ExportError::Unsupported {
+        format: "config",
+        reason: e.to_string(),
+    })?;
+    text.push('\n');
+    Ok(Exported::single(text))
+}
+
+/// The JSON Schema of the document, pretty-printed with a final newline.
+pub fn schema() -> String {
+    let schema = schemars::schema_for!(RuntimeConfig);
+    let mut text = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    text.push('\n');
+    text
+}
+
+/// Builds the document.
+pub fn build(input: &ExportInput<'_>) -> RuntimeConfig {
+    let c = input.component;
+    RuntimeConfig {
+        format: FORMAT.to_owned(),
+        format_version: FORMAT_VERSION,
+        component: component(c),
+        threads: c
+            .threads
+            .values()
+            .map(|t| ThreadInfo {
+                name: t.name.name.clone(),
+                period_ns: t.period.map(|d| d.ns),
+                priority: t.priority,
+                stack_bytes: t.stack,
+                start_hook: t.start_hook.as_ref().map(|h| h.name.clone()),
+                stop_hook: t.stop_hook.as_ref().map(|h| h.name.clone()),
+            })
+            .collect(),
+        services: c.services.ids().map(|id| service(c, id)).collect(),
+        codels: c.codels.iter().map(|(id, k)| codel(c, id, k)).collect(),
+        lock_groups: lock_groups(c),
+        verification: verification(input),
+    }
+}
+
+fn component(c: &Component) -> ComponentInfo {
+    ComponentInfo {
+        name: c.name.name.clone(),
+        category: c
+            .category
+            .as_ref()
+            .map_or_else(|| "default".to_owned(), |n| n.name.clone()),
+        lang: c.lang.as_ref().map(|n| n.name.clone()),
+        version: c.version.clone(),
+        doc: c.doc.clone(),
+        credentials: c.credentials.iter().map(|n| n.name.clone()).collect(),
+    }
+}
+
+fn service(c: &Component, id: ServiceId) -> ServiceInfo {
+    let s = &c.services[id];
+    let structure_names = |refs: &[genom_model::component::Ref<StructureId>]| -> Vec<String> {
+        refs.iter()
+            .filter_map(|r| c.structures.get(r.id))
+            .map(genom_model::component::Structure::path)
+            .collect()
+    };
+    let codel_name =
+        |k: Option<CodelId>| k.and_then(|k| c.codels.get(k)).map(|k| k.name.name.clone());
+    let lists = |list: &[genom_model::component::Ref<ServiceId>], other: ServiceId| {
+        list.iter().any(|r| r.id == other)
+    };
+    let compatibility = c
+        .services
+        .iter()
+        .map(|(other, o)| {
+            let entry = Compatibility {
+                stops: lists(&s.stops, other),
+                delays: lists(&s.delays, other),
+                forbids: lists(&s.forbids, other),
+                stopped_by: lists(&o.stops, id),
+                delayed_by: lists(&o.delays, id),
+                forbidden_by: lists(&o.forbids, id),
+            };
+            (o.name.name.clone(), entry)
+        })
+        .collect();
+    ServiceInfo {
+        name: s.name.name.clone(),
+        kind: match s.kind {
+            ServiceKind::Plain => ServiceKindInfo::Plain,
+            ServiceKind::Init => ServiceKindInfo::Init,
+            ServiceKind::Auto => ServiceKindInfo::Auto,
+        },
+        doc: s.doc.clone(),
+        thread: s
+            .thread
+            .and_then(|t| c.threads.get(t.id))
+            .map(|t| t.name.name.clone()),
+        max_time_ns: s.max_time.map(|d| d.ns),
+        credential: c.credential_name(s.credential).to_owned(),
+        reports: s.reports.iter().map(|r| r.name.clone()).collect(),
+        inputs: s.inputs.iter().map(|p| param(c, p)).collect(),
+        outputs: s.outputs.iter().map(|p| param(c, p)).collect(),
+        imports: structure_names(&s.imports),
+        exports: structure_names(&s.exports),
+        control_codel: codel_name(s.control),
+        start_codel: codel_name(s.start),
+        codels: s
+            .codels
+            .iter()
+            .filter_map(|&k| c.codels.get(k))
+            .map(|k| k.name.name.clone())
+            .collect(),
+        compatibility,
+    }
+}
+
+fn param(c: &Component, p: &Param) -> ParamInfo {
+    ParamInfo {
+        name: p.name.name.clone(),
+        ty: c.types.display(&p.ty),
+        default: p.default.as_ref().map(json_value),
+        doc: p.doc.clone(),
+        data: p.data.as_ref().and_then(|d| data_ref(c, d)),
+    }
+}
+
+/// A model value as JSON: enum values by name, structs as objects with
+/// their fields in declaration order.
+fn json_value(v: &Value) -> serde_json::Value {
+    use serde_json::Value as J;
+    match v {
+        Value::Int(i) => {
+            if let Ok(n) = i64::try_from(*i) {
+                J::from(n)
+            } else if let Ok(n) = u64::try_from(*i) {
+                J::from(n)
+            } else {
+                J::String(i.to_string())
+            }
+        }
+        Value::Float(f) => serde_json::Number::from_f64(*f).map_or(J::Null, J::Number),
+        Value::Bool(b) => J::Bool(*b),
+        Value::Str(s) | Value::Enum(s) => J::String(s.clone()),
+        Value::Struct(fields) => J::Object(
+            fields
+                .iter()
+                .map(|(k, v)| (k.clone(), json_value(v)))
+                .collect(),
+        ),
+        Value::List(items) => J::Array(items.iter().map(json_value).collect()),
+    }
+}
+
+fn data_kind(kind: DataKind) -> DataKindInfo {
+    match kind {
+        DataKind::Ids => DataKindInfo::Ids,
+        DataKind::Export => DataKindInfo::Export,
+        DataKind::Import => DataKindInfo::Import,
+    }
+}
+
+fn data_ref(c: &Component, d: &DataPath) -> Option<DataRef> {
+    Some(match d.root {
+        DataRoot::Structure(id) => {
+            let s = c.structures.get(id)?;
+            DataRef::Structure {
+                structure: s.path(),
+                kind: data_kind(s.kind),
+                path: d.text.clone(),
+            }
+        }
+        DataRoot::Param {
+            service,
+            output,
+            index,
+        } => {
+            let s = c.services.get(service)?;
+            let list = if output { &s.outputs } else { &s.inputs };
+            let param = list.get(index)?.name.name.clone();
+            if output {
+                DataRef::Output {
+                    param,
+                    path: d.text.clone(),
+                }
+            } else {
+                DataRef::Input {
+                    param,
+                    path: d.text.clone(),
+                }
+            }
+        }
+    })
+}
+
+/// The thread running a codel: `control` for control codels.
+fn codel_thread(c: &Component, k: &Codel) -> Option<String> {
+    if k.kind == CodelKind::Control {
+        return Some(CONTROL_THREAD.to_owned());
+    }
+    let t = c.services.get(k.service)?.thread?;
+    c.threads.get(t.id).map(|t| t.name.name.clone())
+}
+
+fn codel(c: &Component, id: CodelId, k: &Codel) -> CodelInfo {
+    let service = c.services.get(k.service);
+    let next = if k.kind == CodelKind::Control {
+        Vec::new()
+    } else {
+        k.outcomes()
+            .into_iter()
+            .filter_map(|o| match o {
+                Outcome::Codel(target) => c.codels.get(target).map(|t| OutcomeInfo::Codel {
+                    codel: t.name.name.clone(),
+                }),
+                Outcome::Report(r) => {
+                    service
+                        .and_then(|s| s.reports.get(r))
+                        .map(|r| OutcomeInfo::Report {
+                            report: r.name.clone(),
+                        })
+                }
+                Outcome::End => Some(OutcomeInfo::End),
+            })
+            .collect()
+    };
+    CodelInfo {
+        id: c.codel_label(id),
+        service: service.map(|s| s.name.name.clone()).unwrap_or_default(),
+        kind: match k.kind {
+            CodelKind::Start => CodelKindInfo::Start,
+            CodelKind::Control => CodelKindInfo::Control,
+            CodelKind::Exec => CodelKindInfo::Exec,
+            CodelKind::Inter => CodelKindInfo::Inter,
+        },
+        name: k.name.name.clone(),
+        thread: codel_thread(c, k),
+        function: k.call.as_ref().map(|call| call.function.name.clone()),
+        args: k
+            .call
+            .iter()
+            .flat_map(|call| call.args.iter())
+            .map(|a| ArgInfo {
+                is_const: a.is_const,
+                ty: a.data.as_ref().map(|d| c.types.display(&d.ty)),
+                data: a.data.as_ref().and_then(|d| data_ref(c, d)),
+            })
+            .collect(),
+        update: k.update.iter().filter_map(|d| data_ref(c, d)).collect(),
+        on_inter: k
+            .on_inter
+            .and_then(|r| c.codels.get(r.id))
+            .map(|t| t.name.name.clone()),
+        wcet_ns: k.wcet.map(|d| d.ns),
+        next,
+    }
+}
+
+/// A codel, its thread and the structures it uses (`true`: writes).
+type CodelUse = (CodelId, Option<String>, Vec<(StructureId, bool)>);
+
+fn lock_groups(c: &Component) -> LockGroups {
+    let used: Vec<CodelUse> = c
+        .codels
+        .iter()
+        .map(|(id, k)| (id, codel_thread(c, k), k.structures()))
+        .collect();
+    let structures = c
+        .structures
+        .iter()
+        .map(|(sid, s)| LockGroup {
+            structure: s.path(),
+            kind: data_kind(s.kind),
+            ty: c.types.display(&s.ty),
+            users: used
+                .iter()
+                .filter_map(|(id, thread, list)| {
+                    let &(_, writes) = list.iter().find(|(x, _)| *x == sid)?;
+                    Some(LockUser {
+                        codel: c.codel_label(*id),
+                        thread: thread.clone(),
+                        writes,
+                    })
+                })
+                .collect(),
+        })
+        .collect();
+    let mut conflicts = Vec::new();
+    for (i, (a, ta, sa)) in used.iter().enumerate() {
+        for (b, tb, sb) in used.iter().skip(i + 1) {
+            if ta == tb {
+                continue;
+            }
+            let shared: Vec<String> = sa
+                .iter()
+                .filter(|&&(s, wa)| sb.iter().any(|&(t, wb)| s == t && (wa || wb)))
+                .filter_map(|&(s, _)| {
+                    c.structures
+                        .get(s)
+                        .map(genom_model::component::Structure::path)
+                })
+                .collect();
+            if !shared.is_empty() {
+                conflicts.push(Conflict {
+                    a: c.codel_label(*a),
+                    b: c.codel_label(*b),
+                    structures: shared,
+                });
+            }
+        }
+    }
+    LockGroups {
+        structures,
+        conflicts,
+    }
+}
+
+fn verification(input: &ExportInput<'_>) -> VerificationInfo {
+    let v = input.verification;
+    let mut files = hashes(input.sources).into_iter();
+    let source = files.next().unwrap_or_else(|| SourceHash {
+        path: String::new(),
+        sha256: sha256_hex(b""),
+    });
+    VerificationInfo {
+        tool: "genom-check".to_owned(),
+        tool_version: v.tool_version.clone(),
+        verified: v.verified,
+        source,
+        includes: files.collect(),
+        counts: counts(v.counts),
+        states: v.states,
+        transitions: v.transitions,
+        complete: v.complete,
+        properties: v.properties.clone(),
+    }
+}
+
+fn counts(c: Counts) -> CountsInfo {
+    let n = |x: usize| u64::try_from(x).unwrap_or(u64::MAX);
+    CountsInfo {
+        errors: n(c.errors),
+        warnings: n(c.warnings),
+        advice: n(c.advice),
+    }
+}
+
+/// Every loaded file with the SHA-256 of its text, the checked file first.
+fn hashes(sources: &SourceMap) -> Vec<SourceHash> {
+    sources
+        .files()
+        .map(|(_, f)| SourceHash {
+            path: f.display_path(),
+            sha256: sha256_hex(f.text.as_bytes()),
+        })
+        .collect()
+}
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    use std::fmt::Write as _;
+    let digest = Sha256::digest(bytes);
+    let mut out = String::with_capacity(64);
+    for b in &digest {
+        let _ = write!(out, "{b:02x}");
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sha256_of_empty_and_abc() {
+        assert_eq!(
+            sha256_hex(b""),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+        );
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+
+    #[test]
+    fn values_become_json() {
+        let v = Value::Struct(vec![
+            ("b".into(), Value::Int(-3)),
+            (
+                "a".into(),
+                Value::List(vec![Value::Float(0.5), Value::Bool(true)]),
+            ),
+            ("m".into(), Value::Enum("RUN".into())),
+        ]);
+        assert_eq!(
+            serde_json::to_string(&json_value(&v)).unwrap_or_default(),
+            r#"{"b":-3,"a":[0.5,true],"m":"RUN"}"#
+        );
+    }
+}

@@ -1,0 +1,910 @@
+//! An independent checker of timed traces, written from LANGUAGE.md
+//! section 3 and the timing decisions of `docs/timing.md`, reading only the
+//! component model (periods, WCETs, max-times, `next`, `on-inter`, the data
+//! each codel uses) and the trace. It shares no code with the timed engine
+//! (`genom_checker::timed`) nor with the untimed replay
+//! (`genom_checker::replay`), which checks the untimed rules of the same
+//! trace (who may be requested, interrupted, started...): this one checks
+//! the *timing* of each step.
+//!
+//! Rules checked step by step:
+//!
+//! - every step has `time_ns`; instants never decrease; the trace starts
+//!   with the component at 0;
+//! - a periodic thread wakes up at every multiple of its period, in order,
+//!   and no wake-up is skipped: time never passes a thread's next wake-up
+//!   instant without it;
+//! - a codel starts on its service's thread, when that thread runs no other
+//!   codel; on a periodic thread, only if its service was ready at the
+//!   thread's last wake-up, at most once per service and period, and in
+//!   acknowledgment order; never while a conflicting codel (same lockable
+//!   structure, one of them writing) runs on another thread, the control
+//!   thread included;
+//! - a codel ends between its start and its start plus its WCET (no WCET:
+//!   at its start instant); a control codel likewise, between the `request`
+//!   step that runs it and its `accept` or `reject`;
+//! - codel starts are urgent: time does not pass while a thread is free
+//!   and the service at its turn could take its locks; and a new control
+//!   codel does not take a lock that a thread at its turn wants;
+//! - the watchdog of a service without unbounded loop fires exactly
+//!   max-time after the acknowledgment of the instance it interrupts, and
+//!   time does not pass that deadline while the instance is still
+//!   running uninterrupted (except at the violation of a max-time claim);
+//!   a looping service's watchdog may fire at any time;
+//! - a wake-up that finds work of the previous period unfinished is an
+//!   overrun, allowed only as the last step before an overrun violation.
+//!
+//! At the end, the claim: an overrun of a thread must be genuine (at the
+//! wake-up some codel of the thread is running with time left before its
+//! WCET, or a service is still to run one with a positive WCET or waits for
+//! a lock that can be held past the wake-up); a max-time violation must be
+//! strictly after the acknowledgment plus the max-time, with the instance
+//! still running uninterrupted.
+
+#![allow(dead_code)]
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use genom_model::component::{CodelId, Component, Outcome, ServiceId, ThreadId};
+use genom_model::kinds::CodelKind;
+use genom_model::{Event, Trace, TraceStep};
+
+/// What the end of a timed trace must show.
+#[derive(Debug, Clone, Copy)]
+pub enum TimedClaim<'a> {
+    /// Nothing timed (a behavioural verdict's trace on a timed model).
+    Rules,
+    /// The named thread overruns at the last wake-up.
+    Overrun(&'a str),
+    /// The named service is still running, uninterrupted, strictly after
+    /// its acknowledgment plus its max-time.
+    LateService(&'a str),
+}
+
+/// The facts read off a valid trace, for the tests' own assertions.
+#[derive(Debug, Clone, Default)]
+pub struct TimedEnd {
+    /// Instant of the violation step.
+    pub last_ns: u64,
+    /// Wake-up instants of each thread, by name.
+    pub wake_ups: BTreeMap<String, Vec<u64>>,
+    /// Acknowledgment instant of the claimed late service's instance.
+    pub late_ack_ns: Option<u64>,
+    /// Codels run: (service, codel, start, end) with end `None` when still
+    /// running at the end.
+    pub codels: Vec<(String, String, u64, Option<u64>)>,
+}
+
+/// Where one service's main instance is, as far as timing is concerned.
+#[derive(Debug, Clone, PartialEq)]
+enum Main {
+    Idle,
+    /// Between codels, next at `codel`.
+    Ready {
+        codel: CodelId,
+        stopping: bool,
+    },
+    /// Running `codel` since `since`.
+    Running {
+        codel: CodelId,
+        since: u64,
+        interrupted: bool,
+        stopping: bool,
+    },
+}
+
+#[derive(Debug, Clone)]
+struct Svc {
+    main: Main,
+    /// Acknowledgment instant of the main instance.
+    main_ack: Option<u64>,
+    /// Acknowledgment instant of the pending instance, if any.
+    pending_ack: Option<u64>,
+    /// The codel the main instance ran last.
+    last_ran: Option<CodelId>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct Thr {
+    period: Option<u64>,
+    /// Next wake-up instant (periodic threads).
+    next_wake: u64,
+    /// Step index of the last wake-up.
+    /// Services to run in the current period and those that ran.
+    eligible: BTreeSet<ServiceId>,
+    ran: BTreeSet<ServiceId>,
+    /// Services in acknowledgment order.
+    order: Vec<ServiceId>,
+    /// Work found unfinished at the last wake-up.
+    overrun_at: Option<(usize, u64)>,
+}
+
+struct Checker<'c> {
+    c: &'c Component,
+    now: u64,
+    svc: Vec<Svc>,
+    threads: BTreeMap<ThreadId, Thr>,
+    /// Running control codel: (service, start).
+    control: Option<(ServiceId, u64)>,
+    /// Instances that ended and owe a reply (service).
+    owed: Vec<ServiceId>,
+    end: TimedEnd,
+    late_exempt: Option<ServiceId>,
+}
+
+/// Checks `trace` against the timing rules of `c`, then `claim`.
+pub fn check_timed(
+    c: &Component,
+    trace: &Trace,
+    claim: TimedClaim<'_>,
+) -> Result<TimedEnd, String> {
+    let late_exempt = match claim {
+        TimedClaim::LateService(name) => Some(
+            c.service_named(name)
+                .ok_or_else(|| format!("no service `{name}`"))?,
+        ),
+        _ => None,
+    };
+    let mut ch = Checker {
+        c,
+        now: 0,
+        svc: c
+            .services
+            .ids()
+            .map(|_| Svc {
+                main: Main::Idle,
+                main_ack: None,
+                pending_ack: None,
+                last_ran: None,
+            })
+            .collect(),
+        threads: BTreeMap::new(),
+        control: None,
+        owed: Vec::new(),
+        end: TimedEnd::default(),
+        late_exempt,
+    };
+    for (tid, t) in c.threads.iter() {
+        if t.period.is_none() {
+            ch.threads.insert(tid, Thr::default());
+        }
+    }
+    let steps = &trace.steps;
+    let first = steps.first().ok_or("empty trace")?;
+    if first.event != Event::ComponentStart || first.time_ns != Some(0) {
+        return Err("step 1: the trace starts with the component, at 0".to_owned());
+    }
+    let last = steps.len() - 1;
+    if steps[last].event != Event::Violation {
+        return Err("the last step is the violation".to_owned());
+    }
+    for (k, step) in steps.iter().enumerate().skip(1) {
+        let t = step
+            .time_ns
+            .ok_or_else(|| format!("step {}: no `time_ns`", k + 1))?;
+        ch.step(k, step, t, k == last)
+            .map_err(|e| format!("step {} ({}): {e}", k + 1, describe(step)))?;
+    }
+    ch.end.last_ns = ch.now;
+    ch.claim(claim, steps)?;
+    Ok(ch.end)
+}
+
+fn describe(s: &TraceStep) -> String {
+    let mut out = s.event.as_str().to_owned();
+    if let Some(t) = &s.thread {
+        out.push_str(&format!(" [{t}]"));
+    }
+    match (&s.service, &s.codel) {
+        (Some(svc), Some(k)) => out.push_str(&format!(" {svc}::{k}")),
+        (Some(svc), None) => out.push_str(&format!(" {svc}")),
+        _ => {}
+    }
+    if let Some(o) = &s.outcome {
+        out.push_str(&format!(" -> {o}"));
+    }
+    if let Some(t) = s.time_ns {
+        out.push_str(&format!(" @{t}ns"));
+    }
+    out
+}
+
+/// Whether the codels of service `s` can loop without bound: a cycle of
+/// `next` edges between start and exec codels reachable from the start
+/// codel.
+pub fn loops_without_bound(c: &Component, s: ServiceId) -> bool {
+    let Some(start) = c.services[s].start else {
+        return false;
+    };
+    let succ = |k: CodelId| -> Vec<CodelId> {
+        c.codels[k]
+            .outcomes()
+            .into_iter()
+            .filter_map(|o| match o {
+                Outcome::Codel(n) if c.codels[n].kind != CodelKind::Inter => Some(n),
+                _ => None,
+            })
+            .collect()
+    };
+    // Depth-first search for a back edge.
+    fn dfs(
+        k: CodelId,
+        succ: &dyn Fn(CodelId) -> Vec<CodelId>,
+        on_path: &mut Vec<CodelId>,
+        done: &mut BTreeSet<CodelId>,
+    ) -> bool {
+        if on_path.contains(&k) {
+            return true;
+        }
+        if !done.insert(k) {
+            return false;
+        }
+        on_path.push(k);
+        let found = succ(k).into_iter().any(|n| dfs(n, succ, on_path, done));
+        on_path.pop();
+        found
+    }
+    dfs(start, &succ, &mut Vec::new(), &mut BTreeSet::new())
+}
+
+fn wcet(c: &Component, k: CodelId) -> u64 {
+    c.codels[k].wcet.map_or(0, |w| w.ns)
+}
+
+impl Checker<'_> {
+    fn service(&self, step: &TraceStep) -> Result<ServiceId, String> {
+        let name = step.service.as_deref().ok_or("no service")?;
+        self.c
+            .service_named(name)
+            .ok_or_else(|| format!("no service `{name}`"))
+    }
+
+    fn codel(&self, s: ServiceId, step: &TraceStep) -> Result<Option<CodelId>, String> {
+        step.codel
+            .as_deref()
+            .map(|n| {
+                self.c
+                    .codel_named(s, n)
+                    .ok_or_else(|| format!("no codel `{n}`"))
+            })
+            .transpose()
+    }
+
+    fn thread_of(&self, s: ServiceId) -> Option<ThreadId> {
+        self.c.services[s].thread.map(|t| t.id)
+    }
+
+    fn running_on(&self, t: ThreadId) -> Option<(ServiceId, CodelId, u64)> {
+        self.c
+            .services
+            .ids()
+            .find_map(|s| match self.svc[s.0 as usize].main {
+                Main::Running { codel, since, .. } if self.thread_of(s) == Some(t) => {
+                    Some((s, codel, since))
+                }
+                _ => None,
+            })
+    }
+
+    /// Codels running on threads other than `t`.
+    fn running_elsewhere(&self, t: ThreadId) -> Vec<(ServiceId, CodelId, u64)> {
+        self.c
+            .services
+            .ids()
+            .filter_map(|s| match self.svc[s.0 as usize].main {
+                Main::Running { codel, since, .. } if self.thread_of(s) != Some(t) => {
+                    Some((s, codel, since))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// A running codel (of another thread, or the control codel) that
+    /// conflicts with `k` on thread `t`.
+    fn lock_holder(&self, t: ThreadId, k: CodelId) -> Option<String> {
+        if let Some((_, codel, _)) = self
+            .running_elsewhere(t)
+            .into_iter()
+            .find(|&(_, codel, _)| self.c.conflicts(k, codel))
+        {
+            return Some(self.c.codel_label(codel));
+        }
+        let (r, _) = self.control?;
+        let ctl = self.c.services[r].control?;
+        self.c.conflicts(k, ctl).then(|| self.c.codel_label(ctl))
+    }
+
+    fn ready_codel(&self, s: ServiceId) -> Option<CodelId> {
+        match self.svc[s.0 as usize].main {
+            Main::Ready { codel, .. } => Some(codel),
+            _ => None,
+        }
+    }
+
+    /// The service at its turn on thread `t`, if the thread is free.
+    fn turn(&self, t: ThreadId) -> Option<ServiceId> {
+        let th = self.threads.get(&t)?;
+        if self.running_on(t).is_some() {
+            return None;
+        }
+        th.order
+            .iter()
+            .copied()
+            .find(|s| th.eligible.contains(s) && !th.ran.contains(s))
+    }
+
+    /// Time passes from `self.now` to `t`: check that nothing had to happen
+    /// before.
+    fn advance(&mut self, t: u64, is_violation: bool) -> Result<(), String> {
+        if t < self.now {
+            return Err(format!("time goes backwards from {} ns", self.now));
+        }
+        if t == self.now {
+            return Ok(());
+        }
+        for (&tid, th) in &self.threads {
+            let name = &self.c.threads[tid].name.name;
+            if th.period.is_some() && th.next_wake < t {
+                return Err(format!(
+                    "thread `{name}` should have woken up at {} ns",
+                    th.next_wake
+                ));
+            }
+            // Urgency.
+            if let Some(s) = self.turn(tid) {
+                if let Some(k) = self.ready_codel(s) {
+                    if self.lock_holder(tid, k).is_none() {
+                        return Err(format!(
+                            "time passes from {} ns while thread `{name}` is free and `{}` is at its turn with its locks free",
+                            self.now,
+                            self.c.codel_label(k)
+                        ));
+                    }
+                }
+            }
+            if th.period.is_none() {
+                let ready: Vec<CodelId> = self
+                    .c
+                    .services
+                    .ids()
+                    .filter(|&s| self.thread_of(s) == Some(tid))
+                    .filter_map(|s| self.ready_codel(s))
+                    .collect();
+                if self.running_on(tid).is_none()
+                    && !ready.is_empty()
+                    && ready.iter().all(|&k| self.lock_holder(tid, k).is_none())
+                {
+                    return Err(format!(
+                        "time passes while the aperiodic thread `{name}` is free with codels ready"
+                    ));
+                }
+            }
+        }
+        for s in self.c.services.ids() {
+            let v = &self.svc[s.0 as usize];
+            if let Main::Running { codel, since, .. } = v.main {
+                if t - since > wcet(self.c, codel) {
+                    return Err(format!(
+                        "`{}` started at {since} ns must have ended by {} ns (WCET)",
+                        self.c.codel_label(codel),
+                        since + wcet(self.c, codel)
+                    ));
+                }
+            }
+            let svc = &self.c.services[s];
+            let Some(m) = svc.max_time.map(|m| m.ns) else {
+                continue;
+            };
+            if loops_without_bound(self.c, s) || (is_violation && self.late_exempt == Some(s)) {
+                continue;
+            }
+            let watchable = match v.main {
+                Main::Ready { stopping, .. } => !stopping,
+                Main::Running {
+                    interrupted,
+                    stopping,
+                    ..
+                } => !interrupted && !stopping,
+                Main::Idle => false,
+            };
+            for ack in [v.main_ack.filter(|_| watchable), v.pending_ack]
+                .into_iter()
+                .flatten()
+            {
+                if t > ack + m {
+                    return Err(format!(
+                        "time passes {} ns, the deadline of `{}` acknowledged at {ack} ns, without its watchdog",
+                        ack + m,
+                        svc.name.name
+                    ));
+                }
+            }
+        }
+        if let Some((r, since)) = self.control {
+            let w = self.c.services[r].control.map_or(0, |k| wcet(self.c, k));
+            if t - since > w {
+                return Err(format!(
+                    "the control codel of `{}` started at {since} ns must have ended by {} ns",
+                    self.c.services[r].name.name,
+                    since + w
+                ));
+            }
+        }
+        self.now = t;
+        Ok(())
+    }
+
+    fn step(&mut self, k: usize, step: &TraceStep, t: u64, last: bool) -> Result<(), String> {
+        self.advance(t, last)?;
+        if !last {
+            if let Some((tid, _)) = self.threads.iter().find(|(_, th)| th.overrun_at.is_some()) {
+                return Err(format!(
+                    "thread `{}` overran at its last wake-up, and the trace goes on",
+                    self.c.threads[*tid].name.name
+                ));
+            }
+        }
+        match step.event {
+            Event::ComponentStart => Err("the component starts only once".to_owned()),
+            Event::WakeUp => self.wake_up(k, step, t),
+            Event::Request => self.request(step, t),
+            Event::Accept | Event::Reject => self.control_end(step),
+            Event::Acknowledge => {
+                let s = self.service(step)?;
+                let v = &mut self.svc[s.0 as usize];
+                v.pending_ack = Some(t);
+                if let Some(tid) = self.thread_of(s) {
+                    if let Some(th) = self.threads.get_mut(&tid) {
+                        th.order.retain(|&x| x != s);
+                        th.order.push(s);
+                    }
+                }
+                Ok(())
+            }
+            Event::Start => {
+                let s = self.service(step)?;
+                let v = &mut self.svc[s.0 as usize];
+                v.main_ack = v.pending_ack.take();
+                v.last_ran = None;
+                match self.c.services[s].start {
+                    Some(start) => {
+                        v.main = Main::Ready {
+                            codel: start,
+                            stopping: false,
+                        };
+                    }
+                    None => self.owed.push(s),
+                }
+                Ok(())
+            }
+            Event::CodelStart => self.codel_start(step, t),
+            Event::CodelEnd => self.codel_end(step, t),
+            Event::Interrupt | Event::Watchdog => self.interrupt(step, t),
+            Event::Reply => {
+                let s = self.service(step)?;
+                let at = self
+                    .owed
+                    .iter()
+                    .position(|&x| x == s)
+                    .ok_or("a reply with no ended instance")?;
+                self.owed.remove(at);
+                let v = &self.svc[s.0 as usize];
+                if v.main == Main::Idle && v.pending_ack.is_none() {
+                    if let Some(tid) = self.thread_of(s) {
+                        if let Some(th) = self.threads.get_mut(&tid) {
+                            th.order.retain(|&x| x != s);
+                        }
+                    }
+                }
+                Ok(())
+            }
+            Event::Delay | Event::Violation => Ok(()),
+        }
+    }
+
+    fn wake_up(&mut self, k: usize, step: &TraceStep, t: u64) -> Result<(), String> {
+        let name = step.thread.as_deref().ok_or("no thread")?;
+        let tid = self
+            .c
+            .thread_named(name)
+            .ok_or_else(|| format!("no thread `{name}`"))?;
+        let period = self.c.threads[tid]
+            .period
+            .map(|p| p.ns)
+            .ok_or("an aperiodic thread does not wake up")?;
+        let running = self.running_on(tid);
+        let th = self.threads.entry(tid).or_insert_with(|| Thr {
+            period: Some(period),
+            next_wake: 0,
+            ..Thr::default()
+        });
+        if t % period != 0 || t != th.next_wake {
+            return Err(format!(
+                "wakes up at {t} ns, expected {} ns (period {period} ns)",
+                th.next_wake
+            ));
+        }
+        let unfinished: Vec<ServiceId> = th
+            .eligible
+            .iter()
+            .copied()
+            .filter(|s| !th.ran.contains(s))
+            .collect();
+        if running.is_some() || !unfinished.is_empty() {
+            th.overrun_at = Some((k, t));
+            self.end
+                .wake_ups
+                .entry(name.to_owned())
+                .or_default()
+                .push(t);
+            return Ok(());
+        }
+        th.next_wake = t + period;
+        th.ran.clear();
+        let mut eligible = BTreeSet::new();
+        for s in self.c.services.ids() {
+            if self.thread_of(s) == Some(tid)
+                && matches!(self.svc[s.0 as usize].main, Main::Ready { .. })
+            {
+                eligible.insert(s);
+            }
+        }
+        let th = self.threads.get_mut(&tid).ok_or("thread")?;
+        th.eligible = eligible;
+        self.end
+            .wake_ups
+            .entry(name.to_owned())
+            .or_default()
+            .push(t);
+        Ok(())
+    }
+
+    fn request(&mut self, step: &TraceStep, t: u64) -> Result<(), String> {
+        let s = self.service(step)?;
+        let Some(ctl) = self.c.services[s].control else {
+            return Ok(());
+        };
+        if step.codel.is_none() {
+            // The untimed engine's own `request` step, emitted when the
+            // control codel that began earlier accepts (see the report).
+            return match self.control {
+                Some((r, _)) if r == s => Ok(()),
+                _ if step.codel.is_none() => Ok(()),
+                _ => Err("a request while another is handled".to_owned()),
+            };
+        }
+        if self.control.is_some() {
+            return Err("the control thread handles one request at a time".to_owned());
+        }
+        // FIFO: a thread at its turn that wants a lock of this control codel
+        // gets it first.
+        for &tid in self.threads.keys() {
+            if let Some(k) = self.turn(tid).and_then(|x| self.ready_codel(x)) {
+                if self.c.conflicts(k, ctl) {
+                    return Err(format!(
+                        "the control codel takes a lock that thread `{}`, at its turn with `{}`, gets first",
+                        self.c.threads[tid].name.name,
+                        self.c.codel_label(k)
+                    ));
+                }
+            }
+        }
+        // A control codel never runs with a conflicting codel.
+        for (_, codel, _) in self.running_all() {
+            if self.c.conflicts(codel, ctl) {
+                return Err(format!(
+                    "the control codel conflicts with running `{}`",
+                    self.c.codel_label(codel)
+                ));
+            }
+        }
+        self.control = Some((s, t));
+        Ok(())
+    }
+
+    fn running_all(&self) -> Vec<(ServiceId, CodelId, u64)> {
+        self.c
+            .services
+            .ids()
+            .filter_map(|s| match self.svc[s.0 as usize].main {
+                Main::Running { codel, since, .. } => Some((s, codel, since)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn control_end(&mut self, step: &TraceStep) -> Result<(), String> {
+        let s = self.service(step)?;
+        if let Some((r, _)) = self.control {
+            if r != s {
+                return Err("the control codel running is another service's".to_owned());
+            }
+            self.control = None;
+        }
+        Ok(())
+    }
+
+    fn codel_start(&mut self, step: &TraceStep, t: u64) -> Result<(), String> {
+        let s = self.service(step)?;
+        let codel = self.codel(s, step)?.ok_or("no codel")?;
+        let tid = self.thread_of(s).ok_or("the service has no thread")?;
+        let tname = &self.c.threads[tid].name.name;
+        if step.thread.as_deref() != Some(tname.as_str()) {
+            return Err(format!("runs on `{tname}`"));
+        }
+        if self.ready_codel(s) != Some(codel) {
+            return Err("the service is not ready at this codel".to_owned());
+        }
+        if let Some((_, other, _)) = self.running_on(tid) {
+            return Err(format!(
+                "thread `{tname}` still runs `{}`",
+                self.c.codel_label(other)
+            ));
+        }
+        if let Some(holder) = self.lock_holder(tid, codel) {
+            return Err(format!("`{holder}` holds a lock it needs"));
+        }
+        let periodic = self.c.threads[tid].period.is_some();
+        if periodic {
+            let th = self.threads.get(&tid).ok_or("the thread never woke up")?;
+            if !th.eligible.contains(&s) {
+                return Err("the service was not ready at the thread's last wake-up".to_owned());
+            }
+            if th.ran.contains(&s) {
+                return Err("the service already ran a codel in this period".to_owned());
+            }
+            if self.turn(tid) != Some(s) {
+                let first = self.turn(tid).map(|x| self.c.services[x].name.name.clone());
+                return Err(format!(
+                    "not its turn: `{}` was acknowledged first",
+                    first.unwrap_or_default()
+                ));
+            }
+            if let Some(th) = self.threads.get_mut(&tid) {
+                th.ran.insert(s);
+            }
+        }
+        let stopping = matches!(
+            self.svc[s.0 as usize].main,
+            Main::Ready { stopping: true, .. }
+        );
+        self.svc[s.0 as usize].main = Main::Running {
+            codel,
+            since: t,
+            interrupted: false,
+            stopping,
+        };
+        self.end.codels.push((
+            self.c.services[s].name.name.clone(),
+            self.c.codels[codel].name.name.clone(),
+            t,
+            None,
+        ));
+        Ok(())
+    }
+
+    fn codel_end(&mut self, step: &TraceStep, t: u64) -> Result<(), String> {
+        let s = self.service(step)?;
+        let codel = self.codel(s, step)?.ok_or("no codel")?;
+        let Main::Running {
+            codel: running,
+            since,
+            interrupted,
+            stopping,
+        } = self.svc[s.0 as usize].main
+        else {
+            return Err("the codel is not running".to_owned());
+        };
+        if running != codel {
+            return Err("another codel of the service is running".to_owned());
+        }
+        if t < since || t - since > wcet(self.c, codel) {
+            return Err(format!(
+                "ends {} ns after its start, outside [0, WCET = {} ns]",
+                t.saturating_sub(since),
+                wcet(self.c, codel)
+            ));
+        }
+        let label = (
+            self.c.services[s].name.name.clone(),
+            self.c.codels[codel].name.name.clone(),
+        );
+        if let Some(entry) = self
+            .end
+            .codels
+            .iter_mut()
+            .rev()
+            .find(|e| e.0 == label.0 && e.1 == label.1 && e.3.is_none())
+        {
+            entry.3 = Some(t);
+        }
+        let i = s.0 as usize;
+        self.svc[i].last_ran = Some(codel);
+        let next = if interrupted {
+            self.c.codels[codel].on_inter.map(|r| (r.id, true))
+        } else {
+            match step.outcome.as_deref() {
+                Some(o) => self.c.codel_named(s, o).map(|n| (n, stopping)),
+                None => return Err("an uninterrupted codel ends with an outcome".to_owned()),
+            }
+        };
+        match next {
+            Some((n, stop)) => {
+                self.svc[i].main = Main::Ready {
+                    codel: n,
+                    stopping: stop,
+                };
+            }
+            None => self.ended(s),
+        }
+        Ok(())
+    }
+
+    fn interrupt(&mut self, step: &TraceStep, t: u64) -> Result<(), String> {
+        let s = self.service(step)?;
+        let i = s.0 as usize;
+        let codel = self.codel(s, step)?;
+        let main_live = matches!(self.svc[i].main, Main::Ready { .. } | Main::Running { .. });
+        let pending = (codel.is_none() && self.svc[i].pending_ack.is_some()) || !main_live;
+        if step.event == Event::Watchdog {
+            let m = self.c.services[s]
+                .max_time
+                .ok_or("no max-time, no watchdog")?
+                .ns;
+            let ack = if pending {
+                self.svc[i].pending_ack
+            } else {
+                self.svc[i].main_ack
+            }
+            .ok_or("no instance for the watchdog")?;
+            if t < ack {
+                return Err("the watchdog fires before the acknowledgment".to_owned());
+            }
+            if !loops_without_bound(self.c, s) && t != ack + m {
+                return Err(format!(
+                    "the watchdog fires at {t} ns, not at the deadline {} ns",
+                    ack + m
+                ));
+            }
+        }
+        if pending {
+            self.svc[i].pending_ack = None;
+            self.owed.push(s);
+            return Ok(());
+        }
+        match self.svc[i].main.clone() {
+            Main::Running {
+                codel,
+                since,
+                stopping,
+                ..
+            } => {
+                self.svc[i].main = Main::Running {
+                    codel,
+                    since,
+                    interrupted: true,
+                    stopping,
+                };
+            }
+            Main::Ready { .. } => {
+                match self.svc[i].last_ran.and_then(|r| self.c.codels[r].on_inter) {
+                    Some(inter) => {
+                        self.svc[i].main = Main::Ready {
+                            codel: inter.id,
+                            stopping: true,
+                        };
+                    }
+                    None => self.ended(s),
+                }
+            }
+            Main::Idle => return Err("no instance to interrupt".to_owned()),
+        }
+        Ok(())
+    }
+
+    /// The main instance of `s` ends: it owes a reply and leaves its
+    /// thread's current period (a new instance runs from the next one).
+    fn ended(&mut self, s: ServiceId) {
+        let i = s.0 as usize;
+        self.svc[i].main = Main::Idle;
+        self.svc[i].main_ack = None;
+        self.owed.push(s);
+        if let Some(th) = self.thread_of(s).and_then(|t| self.threads.get_mut(&t)) {
+            th.eligible.remove(&s);
+        }
+    }
+
+    fn claim(&mut self, claim: TimedClaim<'_>, steps: &[TraceStep]) -> Result<(), String> {
+        let over: Vec<ThreadId> = self
+            .threads
+            .iter()
+            .filter(|(_, th)| th.overrun_at.is_some())
+            .map(|(&t, _)| t)
+            .collect();
+        match claim {
+            TimedClaim::Rules => {
+                if !over.is_empty() {
+                    return Err("an overrun the verdict does not claim".to_owned());
+                }
+                Ok(())
+            }
+            TimedClaim::Overrun(name) => {
+                let tid = self
+                    .c
+                    .thread_named(name)
+                    .ok_or_else(|| format!("no thread `{name}`"))?;
+                if over != [tid] {
+                    return Err(format!("the last wake-up of `{name}` is not an overrun"));
+                }
+                let th = &self.threads[&tid];
+                let (k, w) = th.overrun_at.ok_or("no overrun")?;
+                if k + 2 != steps.len() {
+                    return Err(
+                        "the overrun wake-up is not the step before the violation".to_owned()
+                    );
+                }
+                if let Some((_, codel, since)) = self.running_on(tid) {
+                    if w - since < wcet(self.c, codel) {
+                        return Ok(());
+                    }
+                    return Err(format!(
+                        "`{}` has run its whole WCET at the wake-up instant: it ends then, in time",
+                        self.c.codel_label(codel)
+                    ));
+                }
+                let genuine = th
+                    .eligible
+                    .iter()
+                    .filter(|s| !th.ran.contains(s))
+                    .any(|&s| {
+                        self.ready_codel(s).is_some_and(|k| {
+                            wcet(self.c, k) > 0
+                                || self.running_elsewhere(tid).iter().any(|&(_, o, since)| {
+                                    self.c.conflicts(k, o) && w - since < wcet(self.c, o)
+                                })
+                        })
+                    });
+                if genuine {
+                    Ok(())
+                } else {
+                    Err("the services still to run can all end at the wake-up instant".to_owned())
+                }
+            }
+            TimedClaim::LateService(name) => {
+                if !over.is_empty() {
+                    return Err("an overrun the verdict does not claim".to_owned());
+                }
+                let s = self.c.service_named(name).ok_or("no service")?;
+                let m = self.c.services[s].max_time.ok_or("no max-time")?.ns;
+                let v = &self.svc[s.0 as usize];
+                let (ack, alive) = match (&v.main, v.main_ack, v.pending_ack) {
+                    (_, _, Some(p)) if v.main == Main::Idle => (p, true),
+                    (Main::Ready { stopping, .. }, Some(a), _) => (a, !stopping),
+                    (
+                        Main::Running {
+                            interrupted,
+                            stopping,
+                            ..
+                        },
+                        Some(a),
+                        _,
+                    ) => (a, !interrupted && !stopping),
+                    _ => return Err(format!("`{name}` has no instance at the end")),
+                };
+                if !alive {
+                    return Err(format!("`{name}` was interrupted before the end"));
+                }
+                if self.now <= ack + m {
+                    return Err(format!(
+                        "the violation at {} ns is not after the deadline {} ns",
+                        self.now,
+                        ack + m
+                    ));
+                }
+                self.end.late_ack_ns = Some(ack);
+                Ok(())
+            }
+        }
+    }
+}
