@@ -53,6 +53,10 @@ pub enum Command {
     /// Print a random valid component (for benchmarks and tests).
     #[command(hide = true)]
     Generate(GenerateArgs),
+    /// WCET budgets: the largest WCET of each codel, and the largest common scale
+    /// factor of all WCETs, that keep the component free of errors (needs the `smt`
+    /// feature).
+    Budget(BudgetArgs),
 }
 
 /// Arguments of `check`.
@@ -156,6 +160,43 @@ pub enum ExportFormat {
     Svg,
     /// Promela model of the untimed semantics (SPIN).
     Promela,
+}
+
+/// Arguments of `budget` (see docs/timing.md, "WCET budgets").
+#[derive(Debug, Clone, Args)]
+pub struct BudgetArgs {
+    /// The component description file (`.gen`).
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// Only the budget of this codel, as `SERVICE::CODEL` (`SERVICE` alone: its
+    /// start codel); repeatable. Default: every codel.
+    #[arg(long = "codel", value_name = "SERVICE::CODEL")]
+    pub codels: Vec<String>,
+
+    /// Do not compute the common scale factor.
+    #[arg(long)]
+    pub no_scale: bool,
+
+    /// Largest budget searched, e.g. `1s` (a budget that reaches it is reported unbounded).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration, default_value = "60min")]
+    pub cap: std::time::Duration,
+
+    /// Searches run in parallel (default: the number of CPUs).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=256))]
+    pub jobs: Option<u64>,
+
+    /// Stop each exploration after this many states (then the budget is incomplete).
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub max_states: usize,
+
+    /// Stop the whole computation after this long, e.g. `5min` (then incomplete).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub timeout: Option<std::time::Duration>,
+
+    /// Stop each exploration when its state storage exceeds this size, e.g. `4G`.
+    #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
+    pub max_memory: usize,
 }
 
 /// Arguments of `explain`.

@@ -8,9 +8,11 @@
 //! example of `docs/timing.md`, and a hand formula for the worst case; the
 //! timing verdicts of `specs/`.
 //!
-//! Disagreements found between the engine and the contract are tests
-//! marked `#[ignore = "DISAGREEMENT: ..."]` at the end of this file: they
-//! fail today (run them with `cargo test --test timing -- --ignored`).
+//! Four disagreements found between the engine and the contract by the
+//! independent checker are regression tests at the end of this file (a
+//! codel ending exactly at the next wake-up, the timed trace of
+//! `codel-overrun`, one `request` step per request with a control codel,
+//! integer instants with a 1 ns unit).
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
@@ -104,32 +106,6 @@ fn the<'r>(result: &'r CheckResult, code: Code, message: &str, report: &str) -> 
     found[0]
 }
 
-/// The trace as the untimed replay reads it: wake-ups dropped (they change
-/// nothing untimed), and the `request` step that marks the start of a
-/// control codel dropped (the untimed semantics handles a request
-/// atomically, at the instant its control codel accepts or rejects it;
-/// the engine then writes its own `request` step).
-fn untimed_projection(c: &Component, t: &Trace) -> Trace {
-    let steps = t
-        .steps
-        .iter()
-        .filter(|s| s.event != Event::WakeUp)
-        .filter(|s| {
-            !(s.event == Event::Request
-                && s.codel.is_some()
-                && s.service
-                    .as_deref()
-                    .and_then(|n| c.service_named(n))
-                    .is_some_and(|id| c.services[id].control.is_some()))
-        })
-        .cloned()
-        .collect();
-    Trace {
-        steps,
-        loop_start: None,
-    }
-}
-
 /// What one timed verdict of one fixture must be.
 struct Expected<'a> {
     fixture: &'a str,
@@ -143,7 +119,8 @@ struct Expected<'a> {
 
 /// Checks the verdict's code, message, primary line and exact trace; then
 /// the trace's timing, step by step, with the independent checker; then
-/// the claim; then replays its events in the untimed semantics.
+/// the claim; then replays the raw trace (wake-ups and all) in the untimed
+/// semantics.
 fn verify(e: &Expected<'_>) -> (CheckResult, Trace) {
     let path = invalid(e.fixture);
     let result = common::check(&path);
@@ -192,12 +169,11 @@ fn verify(e: &Expected<'_>) -> (CheckResult, Trace) {
         }
         TimedClaim::Rules => {}
     }
-    let projected = untimed_projection(c, &trace);
-    if let Err(err) = replay(c, &projected) {
+    if let Err(err) = replay(c, &trace) {
         panic!(
             "{}: the untimed replay rejects the events of the timed trace: {err}\n    {}",
             e.fixture,
-            trace_lines(&projected).join("\n    ")
+            trace_lines(&trace).join("\n    ")
         );
     }
     (result, trace)
@@ -424,7 +400,6 @@ fn thread_overrun_behind_a_control_codel_holding_the_lock() {
             "@10ms start Servo::start",
             "@10ms request SetGain::control",
             "@10ms wake-up servoTask",
-            "@15ms request SetGain",
             "@15ms accept SetGain::control",
             "@15ms acknowledge SetGain",
             "@15ms start SetGain",
@@ -677,6 +652,7 @@ fn every_timed_trace_is_a_timed_execution_and_replays() {
             let names: Vec<&str> = d.message.split('`').skip(1).step_by(2).collect();
             let claim = match d.code {
                 Code::ThreadOverrun => TimedClaim::Overrun(names[0]),
+                Code::CodelOverrun => TimedClaim::Overrun(names[1]),
                 Code::MaxTimeExceeded | Code::MaxTimeInfeasible => {
                     TimedClaim::LateService(names[0])
                 }
@@ -686,7 +662,7 @@ fn every_timed_trace_is_a_timed_execution_and_replays() {
             if let Err(e) = check_timed(c, trace, claim) {
                 failures.push(format!("{name}: `{}`: timing: {e}", d.code));
             }
-            if let Err(e) = replay(c, &untimed_projection(c, trace)) {
+            if let Err(e) = replay(c, trace) {
                 failures.push(format!("{name}: `{}`: replay: {e}", d.code));
             }
         }
@@ -856,9 +832,7 @@ fn margins_are_exact_on_the_worked_example() {
             expected,
             "max-time {max_time}:\n{report}"
         );
-        // With a 1 ns unit the violation's instant is rounded down onto the
-        // deadline: see the disagreement test at the end of this file.
-        if exceeded && unit > 1 {
+        if exceeded {
             let d = &result.diagnostics[0];
             let trace = d.trace.as_ref().expect("a trace");
             let end = check_timed(component(&result), trace, TimedClaim::LateService("Step"))
@@ -1055,61 +1029,198 @@ fn the_timing_verdicts_of_the_specs_are_the_documented_ones() {
     assert_eq!(found, expected);
 }
 
-// ---------------------------------------------------------- disagreements
+// ------------------------------------------ former disagreements (fixed)
 
 /// A codel whose WCET equals its thread's period, alone on its thread,
 /// always finishes by the next wake-up (it starts at a wake-up); LANGUAGE.md
 /// section 3: a thread overruns when "its codels of one period have not
 /// finished by the next wake-up". `codel-overrun` agrees (`>`), and the
 /// max-time margin is "ending exactly at the deadline is in time". The
-/// timed engine lets the wake-up come before the codel's end at the same
-/// instant and reports `thread-overrun`; the independent checker rejects
-/// that trace (the codel has run its whole WCET at the wake-up).
+/// engine used to let the wake-up come before the codel's end at the same
+/// instant; codel ends now come first. One nanosecond more is a
+/// `codel-overrun`, with a trace where the thread overruns.
 #[test]
-#[ignore = "DISAGREEMENT: thread-overrun when a codel ends exactly at the next wake-up"]
 fn a_codel_ending_exactly_at_the_next_wake_up_is_not_an_overrun() {
     let path = common::root().join("tests/fixtures/timing/wcet-equals-period.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
-    if let Some(d) = result
-        .diagnostics
-        .iter()
-        .find(|d| d.code == Code::ThreadOverrun)
-    {
-        let trace = d.trace.as_ref().expect("a trace");
-        let why = check_timed(component(&result), trace, TimedClaim::Overrun("servoTask"));
-        panic!(
-            "thread-overrun reported; the timing checker says {why:?}\n    {}\n{report}",
-            trace_lines(trace).join("\n    ")
-        );
-    }
+    assert!(result.diagnostics.is_empty(), "{report}");
+    assert!(
+        result.statistics.as_ref().is_some_and(|s| s.complete),
+        "fully explored"
+    );
+    let text = std::fs::read_to_string(&path).expect("readable");
+    let longer = check_inline(&text.replace("max-time: 10ms", "max-time: 10000001ns"));
+    let report = common::render(Path::new("inline.gen"), &longer);
+    assert_eq!(timing_codes(&longer), [Code::CodelOverrun], "{report}");
+    let d = &longer.diagnostics[0];
+    let trace = d.trace.as_ref().expect("a trace");
+    let end = check_timed(component(&longer), trace, TimedClaim::Overrun("servoTask"))
+        .unwrap_or_else(|e| panic!("{e}\n{report}"));
+    assert_eq!(end.last_ns % 10_000_000, 0, "ends at a wake-up");
 }
 
-/// The done-when of the timing issue: every timing verdict carries a
-/// concrete timed trace. `codel-overrun` is an error of the static checks,
-/// so the behavioural and timed engines do not run at all and it has none.
-#[test]
-#[ignore = "DISAGREEMENT: codel-overrun has no timed trace (the engines do not run after a static error)"]
-fn codel_overrun_carries_a_timed_trace() {
-    let path = invalid("codel-overrun.wcet-longer-than-period.gen");
-    let result = common::check(&path);
+/// Services of one period whose codels (with lock waits) take exactly the
+/// period are in time; one time unit (here 1 ns) more is a
+/// `thread-overrun`, whose trace the independent checker accepts as a
+/// genuine overrun. `what` names the case; `{W}` in `src` is replaced by
+/// the WCET that makes the sum exact, in ns.
+fn exact_overrun(what: &str, src: &str, exact_ns: u64, thread: &str, base: &[Code]) {
+    let at = |w: u64| check_inline(&src.replace("{W}", &format!("{w}ns")));
+    let result = at(exact_ns);
+    let report = common::render(Path::new("inline.gen"), &result);
+    assert_eq!(
+        timing_codes(&result),
+        base,
+        "{what}: exactly the period\n{report}"
+    );
+    assert!(
+        result.statistics.as_ref().is_some_and(|s| s.complete),
+        "{what}: fully explored"
+    );
+    let result = at(exact_ns + 1);
+    let report = common::render(Path::new("inline.gen"), &result);
+    let mut expected = base.to_vec();
+    expected.push(Code::ThreadOverrun);
+    expected.sort_by_key(|c| c.as_str());
+    let mut found = timing_codes(&result);
+    found.sort_by_key(|c| c.as_str());
+    assert_eq!(found, expected, "{what}: one nanosecond more\n{report}");
     let d = result
         .diagnostics
         .iter()
-        .find(|d| d.code == Code::CodelOverrun)
-        .expect("codel-overrun");
-    assert!(d.trace.is_some(), "codel-overrun has no trace");
+        .find(|d| d.code == Code::ThreadOverrun)
+        .expect("thread-overrun");
+    let trace = d.trace.as_ref().expect("a trace");
+    let c = component(&result);
+    check_timed(c, trace, TimedClaim::Overrun(thread))
+        .unwrap_or_else(|e| panic!("{what}: {e}\n{report}"));
+    replay(c, trace).unwrap_or_else(|e| panic!("{what}: replay: {e}\n{report}"));
 }
 
-/// A timed trace with a control codel writes the request twice: `request
-/// S` (codel `control`) when the control codel begins, then a second
-/// `request S` (no codel) just before `accept`. Section 4 lists one
-/// `request` event per request; and the untimed replay, which handles a
-/// request atomically, rejects the raw trace (a wake-up inside the open
-/// request, then a second request). The projection used above drops the
-/// first step.
 #[test]
-#[ignore = "DISAGREEMENT: timed traces with a control codel have two `request` steps per request"]
+fn work_that_takes_exactly_the_period_is_in_time() {
+    // Two services on one thread: 4 ms + 6 ms in a 10 ms period.
+    exact_overrun(
+        "two services",
+        "component c { category: default; lang: C; }\n\
+         thread servo { period: 10ms; }\n\
+         service A { thread: servo; start codel { exec: fa(); max-time: 4ms; next: start, end; } }\n\
+         service B { thread: servo; start codel { exec: fb(); max-time: {W}; next: start, end; } }\n",
+        6_000_000,
+        "servo",
+        &[],
+    );
+    // A lock held by another thread's codel for 6 ms, then 4 ms of codel.
+    exact_overrun(
+        "lock wait",
+        "component c { category: default; lang: C; }\n\
+         ids joints { double q := 0.0; }\n\
+         thread servo { period: 10ms; }\n\
+         thread log { period: 50ms; }\n\
+         service Servo { thread: servo; start codel { exec: fs(const joints.q); max-time: 4ms; next: start, end; } }\n\
+         service Record { thread: log; start codel { exec: fr(joints.q); max-time: {W}; next: start, end; } }\n",
+        6_000_000,
+        "servo",
+        &[],
+    );
+    // A control codel holding the lock for 4 ms, then 6 ms of codel.
+    exact_overrun(
+        "control codel",
+        "component c { category: default; lang: C; }\n\
+         ids gains { double kp := 1.0; }\n\
+         thread servo { period: 10ms; }\n\
+         service Servo { thread: servo; start codel { exec: fs(gains.kp); max-time: 6ms; next: start, end; } }\n\
+         service SetGain { report: BAD; input: gains.kp; control codel { exec: check(gains.kp); max-time: {W}; } }\n",
+        4_000_000,
+        "servo",
+        &[],
+    );
+    // A codel without WCET (no time) waiting for a lock that another
+    // thread's codel, started at the same wake-up, holds for up to 10 ms:
+    // released at the next wake-up, it runs then, in time; held 1 ns
+    // longer, the thread overruns.
+    exact_overrun(
+        "zero-time codel behind a lock",
+        "component c { category: default; lang: C; }\n\
+         ids joints { double q := 0.0; }\n\
+         thread servo { period: 10ms; }\n\
+         thread slow { period: 50ms; }\n\
+         service Servo { thread: servo; start codel { exec: fs(joints.q); next: start, end; } }\n\
+         service Log { thread: slow; start codel { exec: fl(joints.q); max-time: {W}; next: start, end; } }\n",
+        10_000_000,
+        "servo",
+        &[Code::MissingWcet],
+    );
+}
+
+/// A codel that may use the whole period, with another service to run a
+/// codel in the same period: the thread overruns, with a genuine witness
+/// (when `A` runs first and ends exactly at the wake-up, `B` has not run
+/// and may take time; the witness never shows a codel that has used its
+/// whole WCET still running at the wake-up).
+#[test]
+fn a_full_period_codel_before_another_service_overruns() {
+    let result = check_inline(
+        "component c { category: default; lang: C; }\n\
+         thread servo { period: 10ms; }\n\
+         service A { thread: servo; start codel { exec: fa(); max-time: 10ms; next: start, end; } }\n\
+         service B { thread: servo; start codel { exec: fb(); max-time: 1ms; next: start, end; } }\n",
+    );
+    let report = common::render(Path::new("inline.gen"), &result);
+    assert_eq!(timing_codes(&result), [Code::ThreadOverrun], "{report}");
+    let trace = result.diagnostics[0].trace.as_ref().expect("a trace");
+    let c = component(&result);
+    // The claim: at the wake-up, a codel still running has time left
+    // before its WCET, or a codel still to run has a positive WCET; never a
+    // codel running with its whole WCET used (that one ends first).
+    check_timed(c, trace, TimedClaim::Overrun("servo")).unwrap_or_else(|e| panic!("{e}\n{report}"));
+    replay(c, trace).unwrap_or_else(|e| panic!("replay: {e}\n{report}"));
+}
+
+/// Every timing verdict carries a concrete timed trace (issue 5), also
+/// `codel-overrun`, a static check: the engines still run when it is the
+/// only error, and the trace shows the codel still running when its
+/// thread wakes up again (a genuine overrun for the independent checker).
+#[test]
+fn codel_overrun_carries_a_timed_trace() {
+    verify(&Expected {
+        fixture: "codel-overrun.wcet-longer-than-period.gen",
+        code: Code::CodelOverrun,
+        message: "codel `Servo::step` may take 12ms but thread `servoTask` wakes up every 10ms",
+        line: 16,
+        claim: TimedClaim::Overrun("servoTask"),
+        trace: &[
+            "@0 component-start",
+            "@0 wake-up servoTask",
+            "@10ms request Servo",
+            "@10ms acknowledge Servo",
+            "@10ms start Servo::start",
+            "@10ms wake-up servoTask",
+            "@10ms codel-start Servo::start",
+            "@11ms codel-end Servo::start -> step",
+            "@20ms wake-up servoTask",
+            "@20ms codel-start Servo::step",
+            "@30ms wake-up servoTask",
+            "violation",
+        ],
+    });
+    // The thread overrun it implies is not reported a second time.
+    let path = invalid("codel-overrun.wcet-longer-than-period.gen");
+    let result = common::check(&path);
+    assert_eq!(
+        timing_codes(&result),
+        [Code::CodelOverrun],
+        "{}",
+        common::render(&path, &result)
+    );
+}
+
+/// A timed trace with a control codel writes the request once, when the
+/// control codel begins (`request S`, codel `control`), then `accept` or
+/// `reject` when it ends; the untimed replay reads the raw trace, with
+/// the other threads' steps inside the open request.
+#[test]
 fn a_request_with_a_control_codel_is_one_request_step() {
     let path = invalid("thread-overrun.control-codel-holds-the-lock.gen");
     let result = common::check(&path);
@@ -1119,27 +1230,47 @@ fn a_request_with_a_control_codel_is_one_request_step() {
         .find(|d| d.code == Code::ThreadOverrun)
         .expect("thread-overrun");
     let trace = d.trace.as_ref().expect("a trace");
-    let requests = trace
+    let requests: Vec<&TraceStep> = trace
         .steps
         .iter()
         .filter(|s| s.event == Event::Request && s.service.as_deref() == Some("SetGain"))
-        .count();
+        .collect();
+    assert_eq!(requests.len(), 1, "{:?}", trace_lines(trace));
+    assert_eq!(requests[0].codel.as_deref(), Some("control"));
     let replayed = replay(component(&result), trace).map(|_| ());
     assert!(
-        requests == 1 && replayed.is_ok(),
-        "{requests} `request SetGain` steps; raw replay: {replayed:?}\n    {}",
+        replayed.is_ok(),
+        "raw replay: {replayed:?}\n    {}",
         trace_lines(trace).join("\n    ")
     );
+    // The replay still refuses a codel that conflicts with the running
+    // control codel, and a second request while it runs.
+    let c = component(&result);
+    let lines = trace_lines(trace);
+    let at = |l: &str| lines.iter().position(|x| x == l).expect("the step");
+    let mut early = trace.clone();
+    let start = early.steps.remove(at("@15ms codel-start Servo::start"));
+    early.steps.insert(at("@10ms wake-up servoTask") + 1, start);
+    let e = replay(c, &early).expect_err("Servo takes the lock of the control codel");
+    assert!(
+        e.to_string().contains("conflicts with the control codel"),
+        "{e}"
+    );
+    let mut twice = trace.clone();
+    let request = twice.steps[at("@10ms request SetGain::control")].clone();
+    twice
+        .steps
+        .insert(at("@10ms wake-up servoTask") + 1, request);
+    let e = replay(c, &twice).expect_err("one request at a time");
+    assert!(e.to_string().contains("one request at a time"), "{e}");
 }
 
-/// The max-time-exceeded trace's last instant must be strictly after the
-/// acknowledgment plus the max-time. The engine picks a point of the final
-/// zone with a fractional scale and rounds it down to whole nanoseconds:
-/// with a 1 ns time unit (max-time 11999999ns in the worked example) the
-/// violation is printed exactly at the deadline, 11999999 ns, where the
-/// instance is still in time. An integer point (12 ms here) exists.
+/// The max-time-exceeded trace's last instant is strictly after the
+/// acknowledgment plus the max-time, in whole nanoseconds, also with a
+/// 1 ns time unit (max-time 11999999ns in the worked example): the engine
+/// picks an integer point of the final zone (12 ms here), where it used to
+/// round a fractional point down onto the deadline.
 #[test]
-#[ignore = "DISAGREEMENT: with a 1 ns unit the exceeded trace ends exactly at the deadline"]
 fn the_late_instant_is_after_the_deadline_with_a_nanosecond_unit() {
     let result = check_inline(&worked_example("11999999ns"));
     let d = result
@@ -1148,10 +1279,11 @@ fn the_late_instant_is_after_the_deadline_with_a_nanosecond_unit() {
         .find(|d| d.code == Code::MaxTimeExceeded)
         .expect("max-time-exceeded");
     let trace = d.trace.as_ref().expect("a trace");
-    let end = check_timed(component(&result), trace, TimedClaim::LateService("Step"));
-    assert!(
-        end.is_ok(),
-        "{end:?}\n    {}",
-        trace_lines(trace).join("\n    ")
+    let end = check_timed(component(&result), trace, TimedClaim::LateService("Step"))
+        .unwrap_or_else(|e| panic!("{e}\n    {}", trace_lines(trace).join("\n    ")));
+    assert_eq!(end.late_ack_ns, Some(0));
+    assert_eq!(
+        end.last_ns, 12_000_000,
+        "the first whole nanosecond after the deadline"
     );
 }

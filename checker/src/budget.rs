@@ -186,6 +186,11 @@ pub struct Budgets {
     pub constraints: usize,
     /// The grid of the searches, in ns.
     pub grid_ns: u64,
+    /// The cap of the codel budgets, in ns (an unbounded budget was checked
+    /// clean there).
+    pub cap_ns: u64,
+    /// The cap of the scale factor, in 1/[`SCALE_STEPS`].
+    pub scale_cap: u64,
     /// Explorations run in all (the baseline and the observation
     /// included).
     pub runs: usize,
@@ -282,6 +287,8 @@ pub fn budgets(c: &Component, options: &BudgetOptions) -> Result<Budgets, Budget
         scale: None,
         constraints: relaxation.constraints.len(),
         grid_ns: grid,
+        cap_ns: options.cap_ns,
+        scale_cap: options.scale_cap,
         runs: 1 + usize::from(seen.explored),
         elapsed: StdDuration::ZERO,
     };
@@ -1020,12 +1027,19 @@ mod tests {
     use super::*;
     use crate::testing::check;
 
+    /// The component of `src`, whose only errors are timing ones.
     fn component(src: &str) -> Component {
         let r = check(src);
+        let timing = [
+            Code::ThreadOverrun,
+            Code::CodelOverrun,
+            Code::MaxTimeExceeded,
+            Code::MaxTimeInfeasible,
+        ];
         let errors: Vec<_> = r
             .diagnostics
             .iter()
-            .filter(|d| d.severity == Severity::Error)
+            .filter(|d| d.severity == Severity::Error && !timing.contains(&d.code))
             .map(|d| d.code)
             .collect();
         assert!(errors.is_empty(), "{errors:?}");

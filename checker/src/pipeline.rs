@@ -5,7 +5,9 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use genom_model::component::Component;
-use genom_model::{Diagnostic, FileId, Severity, SourceMap, Span, Statistics, sort_diagnostics};
+use genom_model::{
+    Code, Diagnostic, FileId, Severity, SourceMap, Span, Statistics, sort_diagnostics,
+};
 use genom_parser::{Ast, LoadError, Loader};
 
 use crate::engine::{Limits, analyse};
@@ -122,12 +124,17 @@ pub fn check_source(
         diagnostics.extend(crate::checks::run(&resolved.component));
         component = resolved.has_component.then_some(resolved.component);
     }
-    let clean = !diagnostics.iter().any(|d| d.severity == Severity::Error);
+    // A codel longer than its period leaves the model well formed: the
+    // engines still run, to give that verdict its timed trace.
+    let clean = !diagnostics
+        .iter()
+        .any(|d| d.severity == Severity::Error && d.code != Code::CodelOverrun);
     let mut statistics = None;
     if let (Some(c), true, true) = (&component, clean, options.behaviour) {
         let analysis = if crate::timed::gives_timing(c) {
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
+            attach_codel_overrun_traces(c, &facts, &mut diagnostics);
             analysis
         } else {
             analyse(c, options.limits(started))
@@ -151,5 +158,28 @@ pub fn check_source(
         diagnostics,
         component,
         statistics,
+    }
+}
+
+/// Gives each `codel-overrun` (a static check, whose primary label is the
+/// codel's WCET) the timed trace the timed engine found for that codel: it
+/// starts, and its thread wakes up again before it can have finished. A
+/// codel that no execution runs keeps no trace.
+fn attach_codel_overrun_traces(
+    c: &Component,
+    facts: &crate::timed::TimedFacts,
+    diagnostics: &mut [Diagnostic],
+) {
+    for d in diagnostics
+        .iter_mut()
+        .filter(|d| d.code == Code::CodelOverrun && d.trace.is_none())
+    {
+        let found = facts
+            .codel_overruns
+            .iter()
+            .find(|o| c.codels[o.codel].wcet.is_some_and(|w| w.span == d.span()));
+        if let Some(o) = found {
+            d.trace = Some(o.trace.clone());
+        }
     }
 }

@@ -23,11 +23,17 @@
 //! - `component-start` is the first step, and only the first. Without an
 //!   `init` service, initialisation is done at once.
 //! - `request` S (thread `control`) opens a request, closed by `reject` or
-//!   `acknowledge`. The rules of section 3 are applied in order: a `reject`
+//!   `acknowledge`; one request at a time. The rules of section 3 are
+//!   applied in order: a `reject`
 //!   must give (in `outcome`) the reason of the first rule that applies
 //!   (`NOT_INITIALIZED`, `FORBIDDEN`, `BUSY`); when none applies, only the
 //!   control codel can reject (with one of S's reports) or `accept`, and it
-//!   must be able to take its locks (no conflicting codel is running). Then
+//!   must be able to take its locks (no conflicting codel is running) from
+//!   the `request` step on. The control codel runs on the control thread
+//!   from `request` to its `accept` or `reject`, which may be later (a
+//!   timed trace): meanwhile the other threads go on (`wake-up`,
+//!   `codel-start` of a codel that does not conflict with it, `codel-end`,
+//!   `start`, `reply`, `watchdog`), but no other request is handled. Then
 //!   every instance of the services of `S.stops` must be interrupted
 //!   (`interrupt` steps; `codel` is `null` for a pending instance, else the
 //!   instance's current codel) before `acknowledge` creates the pending
@@ -428,6 +434,14 @@ struct OpenRequest {
     accepted: bool,
 }
 
+impl OpenRequest {
+    /// The control codel of the request is running (step 4, which takes
+    /// time on the control thread while the other threads go on).
+    fn in_control_codel(&self, c: &Component) -> bool {
+        self.rule.is_none() && !self.accepted && c.services[self.service].control.is_some()
+    }
+}
+
 struct Replayer<'c> {
     c: &'c Component,
     state: State,
@@ -611,8 +625,7 @@ impl<'c> Replayer<'c> {
             Event::CodelEnd => self.codel_end(step),
             Event::Watchdog => self.watchdog(step),
             Event::Reply => self.reply(step),
-            Event::WakeUp | Event::Delay => self.settled(),
-            Event::Violation => self.settled(),
+            Event::WakeUp | Event::Delay | Event::Violation => self.settled(),
         }
     }
 
@@ -627,10 +640,15 @@ impl<'c> Replayer<'c> {
             .collect();
     }
 
-    /// The state is stable: no open request, no owed reply or auto
+    /// The state is stable: no open request (except one whose control
+    /// codel runs, while the other threads go on), no owed reply or auto
     /// acknowledgment, no pending instance that can start.
     fn settled(&self) -> StepResult {
-        if let Some(r) = &self.request {
+        if let Some(r) = self
+            .request
+            .as_ref()
+            .filter(|r| !r.in_control_codel(self.c))
+        {
             return Err(format!(
                 "the request for `{}` is still being handled (it must be acknowledged or rejected first)",
                 self.name(r.service)
@@ -714,10 +732,19 @@ impl<'c> Replayer<'c> {
     }
 
     fn request(&mut self, step: &TraceStep) -> StepResult {
+        if let Some(r) = &self.request {
+            return Err(format!(
+                "the control thread still handles the request for `{}`: one request at a time",
+                self.name(r.service)
+            ));
+        }
         self.settled()?;
         self.check_thread(step, "control")?;
         let s = self.service_of(step)?;
         let rule = self.rule(s);
+        if rule.is_none() {
+            self.control_locks(s)?;
+        }
         let accepted = rule.is_none() && self.c.services[s].control.is_none();
         self.request = Some(OpenRequest {
             service: s,
@@ -936,7 +963,12 @@ impl<'c> Replayer<'c> {
     fn acknowledge(&mut self, step: &TraceStep) -> StepResult {
         self.check_thread(step, "control")?;
         let s = self.service_of(step)?;
-        if let Some(r) = self.request.clone() {
+        let auto_due = self.autos_due.contains(&s);
+        if let Some(r) = self
+            .request
+            .clone()
+            .filter(|r| !(auto_due && r.service != s && r.in_control_codel(self.c)))
+        {
             if r.service != s {
                 return Err(format!(
                     "the open request is for `{}`, not `{}`",
@@ -1083,6 +1115,16 @@ impl<'c> Replayer<'c> {
                         self.codel_name(running)
                     ));
                 }
+            }
+        }
+        if let Some(r) = self.request.as_ref().filter(|r| r.in_control_codel(self.c)) {
+            let control = self.c.services[r.service].control;
+            if control.is_some_and(|ctl| self.c.conflicts(k, ctl)) {
+                return Err(format!(
+                    "`{}` conflicts with the control codel of `{}`, running on the control thread: conflicting codels never run at the same time",
+                    self.codel_name(k),
+                    self.name(r.service)
+                ));
             }
         }
         match &mut self.state.instances[s.0 as usize][pos].phase {

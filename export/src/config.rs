@@ -45,6 +45,10 @@ pub struct RuntimeConfig {
     /// The layout version; fields may be added without a bump, never
     /// removed or renamed.
     pub format_version: u32,
+    /// True only when the check found no error and explored the whole
+    /// state space; false for an `--allow-unverified` export that was not
+    /// (`verification.error_codes` and `verification.complete` say why).
+    pub verified: bool,
     /// The component item.
     pub component: ComponentInfo,
     /// The declared execution threads, in source order (the implicit
@@ -124,6 +128,10 @@ pub struct ServiceInfo {
     pub max_time_ns: Option<u64>,
     /// The weakest credential class allowed to request it.
     pub credential: String,
+    /// Requests are rejected with `NOT_INITIALIZED` until the `init`
+    /// service has completed successfully (false for the `init` service
+    /// itself and in a component without one).
+    pub requires_init: bool,
     /// The reports it may end with (besides `INTERRUPTED` and `TIMEOUT`).
     pub reports: Vec<String>,
     /// Input parameters, in order.
@@ -141,28 +149,55 @@ pub struct ServiceInfo {
     /// The names of its codels, in source order.
     pub codels: Vec<String>,
     /// For every service of the component (itself included), keyed by
-    /// name: how the two constrain each other.
+    /// name: what a request of this service does while that one has an
+    /// instance (`request`, resolved from both services' `stops`, `delays`
+    /// and `forbids` as LANGUAGE.md section 3 orders them), and the
+    /// declarations it comes from.
     pub compatibility: BTreeMap<String, Compatibility>,
+}
+
+/// What happens to a request of a service while another (or the same)
+/// service has an instance (pending, active or stopping), after the
+/// `init` rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum RequestOutcome {
+    /// Rejected with `FORBIDDEN`: the other lists this one in `forbids`.
+    Forbidden,
+    /// Rejected with `BUSY`: the same service, which does not stop itself.
+    Busy,
+    /// Accepted (after the control codel); the other's instance is
+    /// interrupted (unless already stopping) and this one starts once it
+    /// has ended. For the same service: the new request replaces the
+    /// running instance.
+    Interrupts,
+    /// Accepted, then pending until the other's instance has ended: the
+    /// other lists this one in `delays`.
+    Waits,
+    /// Accepted; both run concurrently.
+    Concurrent,
 }
 
 /// How a service relates to one service of the component.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
 pub struct Compatibility {
-    /// A request of this service interrupts the other's instance (for the
-    /// service itself: a new request replaces the running instance; else a
-    /// request while it runs is rejected with `BUSY`).
+    /// What a request of this service does while the other has an
+    /// instance: the first that applies of `forbidden` (the other forbids
+    /// this one), `busy` (the same service, not self-stopping),
+    /// `interrupts` (this one stops the other), `waits` (the other delays
+    /// this one), else `concurrent`.
+    pub request: RequestOutcome,
+    /// This service lists the other in `stops`.
     pub stops: bool,
-    /// While this service has an instance, the other waits to start.
+    /// This service lists the other in `delays` (no effect on itself).
     pub delays: bool,
-    /// While this service has an instance, requests of the other are
-    /// rejected with `FORBIDDEN`.
+    /// This service lists the other in `forbids` (no effect on itself).
     pub forbids: bool,
-    /// A request of the other interrupts this one's instance.
+    /// The other lists this one in `stops`.
     pub stopped_by: bool,
-    /// While the other has an instance, this one waits to start.
+    /// The other lists this one in `delays`.
     pub delayed_by: bool,
-    /// While the other has an instance, requests of this one are rejected
-    /// with `FORBIDDEN`.
+    /// The other lists this one in `forbids`.
     pub forbidden_by: bool,
 }
 
@@ -357,9 +392,6 @@ pub struct VerificationInfo {
     pub tool: String,
     /// genom-check's version.
     pub tool_version: String,
-    /// True only when the check found no error and explored the whole
-    /// state space; false for `--allow-unverified` exports that were not.
-    pub verified: bool,
     /// The checked file.
     pub source: SourceHash,
     /// The files it includes, in load order.
@@ -372,8 +404,26 @@ pub struct VerificationInfo {
     pub transitions: u64,
     /// Whether exploration covered the whole state space.
     pub complete: bool,
-    /// The properties proven (empty when not verified).
-    pub properties: Vec<String>,
+    /// The distinct codes of the error diagnostics, sorted; empty when
+    /// verified.
+    pub error_codes: Vec<String>,
+    /// The properties proven, in a fixed order (empty when not verified).
+    pub properties: Vec<PropertyInfo>,
+}
+
+/// A property established by the check.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, JsonSchema)]
+pub struct PropertyInfo {
+    /// Its kind: `static-semantics`, `deadlock-free`, `no-starvation`,
+    /// `every-service-can-start`, `interrupts-terminate`,
+    /// `every-codel-reachable`, `every-service-can-end`,
+    /// `auto-services-run-forever`, `no-privilege-escalation`,
+    /// `thread-never-overruns` or `meets-max-time`.
+    pub property: String,
+    /// The thread or service it is about, null for the whole component.
+    pub subject: Option<String>,
+    /// What it means for this component, as a sentence.
+    pub statement: String,
 }
 
 /// A file and the SHA-256 of its text.
@@ -423,6 +473,7 @@ pub fn build(input: &ExportInput<'_>) -> RuntimeConfig {
     RuntimeConfig {
         format: FORMAT.to_owned(),
         format_version: FORMAT_VERSION,
+        verified: input.verification.verified,
         component: component(c),
         threads: c
             .threads
@@ -457,34 +508,27 @@ fn component(c: &Component) -> ComponentInfo {
     }
 }
 
+/// How references to whole structures are written (`demoExport.state`).
+fn structure_names(
+    c: &Component,
+    refs: &[genom_model::component::Ref<StructureId>],
+) -> Vec<String> {
+    refs.iter()
+        .filter_map(|r| c.structures.get(r.id))
+        .map(genom_model::component::Structure::path)
+        .collect()
+}
+
 fn service(c: &Component, id: ServiceId) -> ServiceInfo {
     let s = &c.services[id];
-    let structure_names = |refs: &[genom_model::component::Ref<StructureId>]| -> Vec<String> {
-        refs.iter()
-            .filter_map(|r| c.structures.get(r.id))
-            .map(genom_model::component::Structure::path)
-            .collect()
-    };
     let codel_name =
         |k: Option<CodelId>| k.and_then(|k| c.codels.get(k)).map(|k| k.name.name.clone());
-    let lists = |list: &[genom_model::component::Ref<ServiceId>], other: ServiceId| {
-        list.iter().any(|r| r.id == other)
-    };
     let compatibility = c
         .services
         .iter()
-        .map(|(other, o)| {
-            let entry = Compatibility {
-                stops: lists(&s.stops, other),
-                delays: lists(&s.delays, other),
-                forbids: lists(&s.forbids, other),
-                stopped_by: lists(&o.stops, id),
-                delayed_by: lists(&o.delays, id),
-                forbidden_by: lists(&o.forbids, id),
-            };
-            (o.name.name.clone(), entry)
-        })
+        .map(|(other, o)| (o.name.name.clone(), compatibility(c, id, other)))
         .collect();
+    let init = c.init_service();
     ServiceInfo {
         name: s.name.name.clone(),
         kind: match s.kind {
@@ -499,11 +543,12 @@ fn service(c: &Component, id: ServiceId) -> ServiceInfo {
             .map(|t| t.name.name.clone()),
         max_time_ns: s.max_time.map(|d| d.ns),
         credential: c.credential_name(s.credential).to_owned(),
+        requires_init: init.is_some_and(|i| i != id),
         reports: s.reports.iter().map(|r| r.name.clone()).collect(),
         inputs: s.inputs.iter().map(|p| param(c, p)).collect(),
         outputs: s.outputs.iter().map(|p| param(c, p)).collect(),
-        imports: structure_names(&s.imports),
-        exports: structure_names(&s.exports),
+        imports: structure_names(c, &s.imports),
+        exports: structure_names(c, &s.exports),
         control_codel: codel_name(s.control),
         start_codel: codel_name(s.start),
         codels: s
@@ -514,6 +559,37 @@ fn service(c: &Component, id: ServiceId) -> ServiceInfo {
             .collect(),
         compatibility,
     }
+}
+
+/// How a request of `this` is handled while `other` has an instance,
+/// in the order of the request-handling steps of LANGUAGE.md section 3.
+fn compatibility(c: &Component, this: ServiceId, other: ServiceId) -> Compatibility {
+    let lists = |list: &[genom_model::component::Ref<ServiceId>], x: ServiceId| {
+        list.iter().any(|r| r.id == x)
+    };
+    let (s, o) = (&c.services[this], &c.services[other]);
+    let entry = Compatibility {
+        request: RequestOutcome::Concurrent,
+        stops: lists(&s.stops, other),
+        delays: lists(&s.delays, other),
+        forbids: lists(&s.forbids, other),
+        stopped_by: lists(&o.stops, this),
+        delayed_by: lists(&o.delays, this),
+        forbidden_by: lists(&o.forbids, this),
+    };
+    let same = this == other;
+    let request = if entry.forbidden_by && !same {
+        RequestOutcome::Forbidden
+    } else if same && !entry.stops {
+        RequestOutcome::Busy
+    } else if entry.stops {
+        RequestOutcome::Interrupts
+    } else if entry.delayed_by && !same {
+        RequestOutcome::Waits
+    } else {
+        RequestOutcome::Concurrent
+    };
+    Compatibility { request, ..entry }
 }
 
 fn param(c: &Component, p: &Param) -> ParamInfo {
@@ -603,28 +679,32 @@ fn codel_thread(c: &Component, k: &Codel) -> Option<String> {
     c.threads.get(t.id).map(|t| t.name.name.clone())
 }
 
+/// The outcome table of a codel (empty for a control codel).
+fn outcomes(c: &Component, k: &Codel) -> Vec<OutcomeInfo> {
+    if k.kind == CodelKind::Control {
+        return Vec::new();
+    }
+    let service = c.services.get(k.service);
+    k.outcomes()
+        .into_iter()
+        .filter_map(|o| match o {
+            Outcome::Codel(target) => c.codels.get(target).map(|t| OutcomeInfo::Codel {
+                codel: t.name.name.clone(),
+            }),
+            Outcome::Report(r) => {
+                service
+                    .and_then(|s| s.reports.get(r))
+                    .map(|r| OutcomeInfo::Report {
+                        report: r.name.clone(),
+                    })
+            }
+            Outcome::End => Some(OutcomeInfo::End),
+        })
+        .collect()
+}
+
 fn codel(c: &Component, id: CodelId, k: &Codel) -> CodelInfo {
     let service = c.services.get(k.service);
-    let next = if k.kind == CodelKind::Control {
-        Vec::new()
-    } else {
-        k.outcomes()
-            .into_iter()
-            .filter_map(|o| match o {
-                Outcome::Codel(target) => c.codels.get(target).map(|t| OutcomeInfo::Codel {
-                    codel: t.name.name.clone(),
-                }),
-                Outcome::Report(r) => {
-                    service
-                        .and_then(|s| s.reports.get(r))
-                        .map(|r| OutcomeInfo::Report {
-                            report: r.name.clone(),
-                        })
-                }
-                Outcome::End => Some(OutcomeInfo::End),
-            })
-            .collect()
-    };
     CodelInfo {
         id: c.codel_label(id),
         service: service.map(|s| s.name.name.clone()).unwrap_or_default(),
@@ -653,7 +733,7 @@ fn codel(c: &Component, id: CodelId, k: &Codel) -> CodelInfo {
             .and_then(|r| c.codels.get(r.id))
             .map(|t| t.name.name.clone()),
         wcet_ns: k.wcet.map(|d| d.ns),
-        next,
+        next: outcomes(c, k),
     }
 }
 
@@ -686,6 +766,14 @@ fn lock_groups(c: &Component) -> LockGroups {
                 .collect(),
         })
         .collect();
+    LockGroups {
+        structures,
+        conflicts: conflicts(c, &used),
+    }
+}
+
+/// Every pair of codels of different threads that conflict, in codel order.
+fn conflicts(c: &Component, used: &[CodelUse]) -> Vec<Conflict> {
     let mut conflicts = Vec::new();
     for (i, (a, ta, sa)) in used.iter().enumerate() {
         for (b, tb, sb) in used.iter().skip(i + 1) {
@@ -710,10 +798,7 @@ fn lock_groups(c: &Component) -> LockGroups {
             }
         }
     }
-    LockGroups {
-        structures,
-        conflicts,
-    }
+    conflicts
 }
 
 fn verification(input: &ExportInput<'_>) -> VerificationInfo {
@@ -726,14 +811,25 @@ fn verification(input: &ExportInput<'_>) -> VerificationInfo {
     VerificationInfo {
         tool: "genom-check".to_owned(),
         tool_version: v.tool_version.clone(),
-        verified: v.verified,
         source,
         includes: files.collect(),
         counts: counts(v.counts),
         states: v.states,
         transitions: v.transitions,
         complete: v.complete,
-        properties: v.properties.clone(),
+        error_codes: v.error_codes.clone(),
+        properties: v
+            .properties
+            .iter()
+            .map(|p| {
+                let (property, subject, statement) = crate::verify::describe(input.component, p);
+                PropertyInfo {
+                    property,
+                    subject,
+                    statement,
+                }
+            })
+            .collect(),
     }
 }
 

@@ -33,9 +33,12 @@ use crate::{ExportError, ExportInput, Exported};
 /// Exports the component's diagrams as one Graphviz digraph.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     let d = Diagrams::build(input.component);
-    Ok(Exported::single(render(
-        &d,
-        &crate::pnml::tool_version(input),
+    let text = render(&d, &crate::pnml::tool_version(input));
+    let verified = input.verification.verified;
+    Ok(Exported::single(crate::mark_unverified(
+        text,
+        verified,
+        ("// ", ""),
     )))
 }
 
@@ -92,7 +95,6 @@ pub(crate) struct ServiceBox {
     /// Lines under the name (kind, thread, max-time).
     pub details: Vec<String>,
     /// Index in [`Overview::groups`].
-    #[allow(dead_code)] // read by the SVG renderer (in progress)
     pub group: usize,
 }
 
@@ -156,7 +158,6 @@ pub(crate) struct Machine {
     /// A unique identifier (`machine.moveDistance`).
     pub id: String,
     /// The service's name.
-    #[allow(dead_code)] // read by the SVG renderer (in progress)
     pub service: String,
     /// `service moveDistance` (with `init`/`auto`).
     pub title: String,
@@ -185,7 +186,6 @@ pub(crate) enum NodeKind {
 
 impl NodeKind {
     /// A stable word for classes and legends.
-    #[allow(dead_code)] // read by the SVG renderer (in progress)
     pub fn class(self) -> &'static str {
         match self {
             NodeKind::Request => "request",
@@ -238,7 +238,6 @@ pub(crate) enum EdgeKind {
 
 impl EdgeKind {
     /// A stable word for classes and legends.
-    #[allow(dead_code)] // read by the SVG renderer (in progress)
     pub fn class(self) -> &'static str {
         match self {
             EdgeKind::Request => "request",

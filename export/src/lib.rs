@@ -14,6 +14,7 @@ pub mod svg;
 pub mod tchecker;
 pub mod tina;
 pub mod uppaal;
+pub mod verify;
 
 use genom_model::component::Component;
 use genom_model::{Counts, SourceMap};
@@ -99,8 +100,12 @@ pub struct Verification {
     pub transitions: u64,
     /// Whether exploration covered the whole state space.
     pub complete: bool,
-    /// The properties proven (empty when not verified).
+    /// The properties proven (empty when not verified): `kind` or
+    /// `kind:subject`, see [`verify`].
     pub properties: Vec<String>,
+    /// The distinct codes of the error diagnostics, sorted (what makes an
+    /// `--allow-unverified` export unverified, with `complete`).
+    pub error_codes: Vec<String>,
     /// genom-check's version.
     pub tool_version: String,
 }
@@ -147,6 +152,23 @@ pub enum ExportError {
         /// Why.
         reason: String,
     },
+}
+
+/// The mark written at the top of an export made with `--allow-unverified`
+/// from a component whose verification has errors or is incomplete.
+pub const UNVERIFIED: &str = "NOT verified: verification has errors or is incomplete (exported with the allow-unverified option)";
+
+/// `text` with the [`UNVERIFIED`] mark as a comment of the format, after
+/// the XML declaration when there is one; unchanged when `verified`.
+pub(crate) fn mark_unverified(text: String, verified: bool, comment: (&str, &str)) -> String {
+    if verified {
+        return text;
+    }
+    let line = format!("{}{UNVERIFIED}{}\n", comment.0, comment.1);
+    match text.split_once('\n') {
+        Some((first, rest)) if first.starts_with("<?xml") => format!("{first}\n{line}{rest}"),
+        _ => format!("{line}{text}"),
+    }
 }
 
 /// Exports the component in `format`.

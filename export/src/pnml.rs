@@ -68,7 +68,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     );
     out.push_str(
         "     P/T skeleton in the page: read arcs as arc pairs, inhibitor arcs and priorities in\n     \
-         <toolspecific tool=\"genom-check\"> elements (see docs/exports.md and docs/semantics.md). -->\n",
+         <toolspecific tool=\"genom-check\"> elements (see docs/exports/petri-nets.md and docs/semantics.md). -->\n",
     );
     let _ = writeln!(out, "<pnml xmlns=\"{NAMESPACE}\">");
     let _ = writeln!(out, "  <net id=\"{}\" type=\"{PTNET}\">", attr(&net_id));

@@ -1,13 +1,14 @@
 //! The `tina` export: the component's Petri net ([`PetriNet::build`]) in the
 //! textual `.net` format of the TINA toolbox (`tina`, `nd`, `sift`,
-//! `selt`...).
+//! `selt`...), as a time Petri net with priorities.
 //!
 //! - `net NAME` is the component's name;
 //! - `pl NAME (m)` declares every place, with its initial marking when not
 //!   zero;
-//! - `tr NAME [0,w[ inputs -> outputs`: inputs are the consumed places
-//!   (`p`, `p*2`), read arcs `p?1` and inhibitor arcs `p?-1` (enabled while
-//!   `p` holds fewer than 1 token); outputs are the produced places;
+//! - `tr NAME I inputs -> outputs`: `I` is the static interval (below);
+//!   inputs are the consumed places (`p`, `p*2`), read arcs `p?1` and
+//!   inhibitor arcs `p?-1` (enabled while `p` holds fewer than 1 token);
+//!   outputs are the produced places;
 //! - `pr T1 T2 > T3 T4`: the priorities. genom-check's rule (a transition
 //!   may fire only when no transition of a higher level is enabled) is
 //!   written, for each level that has a higher one, as one `pr` declaration
@@ -15,10 +16,27 @@
 //!   transition of the level on the right, so no transitive closure is
 //!   needed.
 //!
-//! Every transition has the interval `[0,w[` (TINA's default, written out):
-//! the net is the *untimed* semantics, where periods, WCETs and max-times
-//! are abstracted away (docs/semantics.md 2.3–2.4). With `[0,w[`
-//! everywhere, TINA's state class graph is the marking graph.
+//! Time intervals (TINA's semantics: a transition may fire between `a` and
+//! `b` time units after it last became enabled, and time cannot pass beyond
+//! the upper bound of an enabled transition). One unit is the timed
+//! engine's unit ([`Network::unit_ns`], the GCD of the component's
+//! durations), given in the header:
+//!
+//! - the `finish` transitions of a codel with a WCET of `w` units:
+//!   `[0,w]` — the codel ends at most `w` after its thread began it (they
+//!   are enabled exactly while its running place is marked);
+//! - every transition above priority 0 (drop, the request chain, clear,
+//!   start): `[0,0]` — urgent, they take no time, as in the engine;
+//! - everything else (client requests, codel begins, finishes of codels
+//!   without WCET, watchdogs): `[0,w[`, untimed.
+//!
+//! Thread periods, wake-ups, lock waits and `max-time` deadlines are not
+//! expressed: those transitions stay untimed, so the timed net allows every
+//! behaviour of the engine (an over-approximation of it) while removing the
+//! untimed behaviours where a codel outlives its WCET. One more
+//! over-approximation: a codel interrupted while it runs moves to its
+//! `runint` place, which restarts the clock of its finish transitions (at
+//! most `2w` in all, as a codel is interrupted at most once).
 //!
 //! Names are the net's names. A name that is not a plain TINA identifier
 //! (letters, digits, primes, `_`, starting with a letter, not a keyword) is
@@ -31,8 +49,9 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use genom_model::behaviour::Behaviour;
-use genom_model::component::Idx;
-use genom_model::petri::{PetriNet, PlaceId, Transition};
+use genom_model::component::{Component, Idx};
+use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceId, Transition, TransitionKind};
+use genom_model::timed_automata::Network;
 
 use crate::pnml::{LEVELS, level_name, location, tool_version};
 use crate::{ExportError, ExportInput, Exported};
@@ -51,8 +70,9 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
         .map(|t| names.take(&t.name))
         .collect();
 
+    let timing = Timing::new(c, &behaviour);
     let mut out = String::new();
-    header(&mut out, input, &net, &tool_version(input));
+    header(&mut out, input, &net, &tool_version(input), timing.unit_ns);
     if names.renamed.is_empty() {
         out.push_str("# Renamed: none (every name is the net's own name).\n");
     } else {
@@ -74,7 +94,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
         }
     }
 
-    out.push_str("\n# ---- transitions (all untimed: [0,w[) ----\n");
+    out.push_str("\n# ---- transitions: (interval) inputs -> outputs ----\n");
     for (k, t) in net.transitions.iter().enumerate() {
         let _ = writeln!(
             out,
@@ -84,7 +104,12 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
             level_name(t.priority),
             at(input, t.span)
         );
-        let _ = writeln!(out, "{}", transition(t, &transitions[k], &places));
+        let interval = timing.interval(t);
+        let _ = writeln!(
+            out,
+            "{}",
+            transition(t, &transitions[k], &interval, &places)
+        );
     }
 
     out.push_str("\n# ---- priorities: higher levels first ----\n");
@@ -100,7 +125,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     Ok(Exported::single(out))
 }
 
-fn header(out: &mut String, input: &ExportInput<'_>, net: &PetriNet, version: &str) {
+fn header(out: &mut String, input: &ExportInput<'_>, net: &PetriNet, version: &str, unit_ns: u64) {
     let c = input.component;
     let v = input.verification;
     let _ = writeln!(
@@ -122,14 +147,24 @@ fn header(out: &mut String, input: &ExportInput<'_>, net: &PetriNet, version: &s
     );
     out.push_str(
         "#\n\
-         # This is the untimed semantics of the component (LANGUAGE.md section 3,\n\
-         # docs/semantics.md section 4): periods, WCETs and max-times are abstracted\n\
-         # away, so every transition has the interval [0,w[ (may fire at any time once\n\
-         # enabled). Its reachable stable markings (no transition above priority 0\n\
-         # enabled) are exactly the configurations genom-check explores.\n\
+         # The semantics of the component (LANGUAGE.md section 3, docs/semantics.md\n\
+         # section 4) as a time Petri net. Ignoring the intervals (tina -R), its\n\
+         # reachable stable markings (no transition above priority 0 enabled) are\n\
+         # exactly the configurations genom-check explores.\n\
+         #\n",
+    );
+    let _ = writeln!(
+        out,
+        "# Time: 1 unit = {} ({unit_ns} ns). Intervals count from the instant the\n\
+         # transition became enabled: [0,w] on the finish transitions of a codel\n\
+         # with a WCET of w units (it ends at most w after it began); [0,0] on every\n\
+         # transition above priority 0 (urgent, no time passes); [0,w[ (untimed)\n\
+         # elsewhere: requests, codel begins, codels without WCET, watchdogs. Thread\n\
+         # periods and max-times are not expressed (see docs/exports/petri-nets.md).\n\
          #\n\
          # Priorities (pr declarations at the end): a transition may fire only when no\n\
-         # transition of a higher level is enabled. Levels:\n",
+         # transition of a higher level is enabled. Levels:",
+        crate::dot::duration(unit_ns)
     );
     for (level, name, what) in LEVELS {
         let _ = writeln!(out, "#   {level} {name}: {what}");
@@ -140,13 +175,14 @@ fn header(out: &mut String, input: &ExportInput<'_>, net: &PetriNet, version: &s
          # be empty). Names are genom-check's; those that are not plain identifiers are\n\
          # between braces.\n\
          #\n\
-         # Analyse: tina -R FILE.net (marking graph, with priorities and inhibitor arcs)\n\
-         #          nd FILE.net     (edit, draw, simulate)\n",
+         # Analyse: tina -R FILE.net (marking graph, time ignored)\n\
+         #          tina FILE.net    (state class graph, with the intervals)\n\
+         #          nd FILE.net      (edit, draw, simulate)\n",
     );
 }
 
 /// The `tr` declaration of a transition.
-fn transition(t: &Transition, name: &str, places: &[String]) -> String {
+fn transition(t: &Transition, name: &str, interval: &str, places: &[String]) -> String {
     let place = |p: PlaceId| places[p.index()].as_str();
     let mut inputs: Vec<String> = Vec::new();
     for &(p, w) in &t.pre {
@@ -159,7 +195,7 @@ fn transition(t: &Transition, name: &str, places: &[String]) -> String {
         inputs.push(format!("{}?-{w}", place(p)));
     }
     let outputs: Vec<String> = t.post.iter().map(|&(p, w)| weighted(place(p), w)).collect();
-    let mut s = format!("tr {name} [0,w[");
+    let mut s = format!("tr {name} {interval}");
     for i in &inputs {
         s.push(' ');
         s.push_str(i);
@@ -170,6 +206,42 @@ fn transition(t: &Transition, name: &str, places: &[String]) -> String {
         s.push_str(o);
     }
     s
+}
+
+/// The time intervals of the transitions.
+struct Timing<'a> {
+    c: &'a Component,
+    b: &'a Behaviour,
+    /// Nanoseconds per unit.
+    unit_ns: u64,
+}
+
+impl<'a> Timing<'a> {
+    fn new(c: &'a Component, b: &'a Behaviour) -> Self {
+        let unit_ns = Network::build(c, b).unit_ns.max(1);
+        Timing { c, b, unit_ns }
+    }
+
+    /// The static interval of `t` (see the module documentation).
+    fn interval(&self, t: &Transition) -> String {
+        if t.priority > PRIORITY_STEP {
+            return "[0,0]".to_owned();
+        }
+        match self.finish_wcet(t) {
+            Some(ns) => format!("[0,{}]", ns / self.unit_ns),
+            None => "[0,w[".to_owned(),
+        }
+    }
+
+    /// The WCET of the codel a finish transition ends, if it has one.
+    fn finish_wcet(&self, t: &Transition) -> Option<u64> {
+        let TransitionKind::Finish(s, p, _) = t.kind else {
+            return None;
+        };
+        let position = self.b.machine(s).positions.get(usize::from(p))?;
+        let codel = position.codel()?;
+        self.c.codels[codel].wcet.map(|w| w.ns)
+    }
 }
 
 fn weighted(place: &str, w: u32) -> String {

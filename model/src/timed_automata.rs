@@ -4,8 +4,9 @@
 //! timed semantics of the zone engine (`checker/src/timed/model.rs`, on top
 //! of the untimed semantics of `checker/src/engine/system.rs`).
 //!
-//! The construction (docs/timed-automata.md has the full account and the
-//! pilot's network as a worked example):
+//! The construction (docs/semantics.md section 7 sums it up; the exports'
+//! pages docs/exports/uppaal.md and docs/exports/tchecker.md give the
+//! printed forms, queries and labels):
 //!
 //! - **Time unit**: the GCD of every duration of the component (periods,
 //!   codel WCETs, control codel WCETs, max-times of services with a start
@@ -35,11 +36,13 @@
 //!   enabled; their guards use integer variables only. Each printer
 //!   expresses this in its language.
 //! - **Violations**: a thread overrun leads to a committed location without
-//!   edges (nothing can happen after it, as in the engine); a max-time
+//!   edges (nothing can happen after it, as in the engine); a running codel
+//!   that has used its whole WCET at a wake-up instant ends before the
+//!   wake-up (its overrun edge needs `exec < WCET`); a max-time
 //!   exceeded is found by a watchdog *probe*: at its max-time, in a
 //!   non-urgent state, the watchdog may freeze every other process and let
 //!   time pass without its own invariant; if its clock then exceeds the
-//!   max-time, it reaches its `late` location.
+//!   max-time, it reaches its `late` location, otherwise it resumes.
 //!
 //! Labels: `codel_SERVICE_CODEL` on the location where that codel runs,
 //! `overrun_THREAD` and `timeout_SERVICE` on the violation locations.
@@ -654,7 +657,9 @@ pub struct Network {
     pub services: Vec<ServiceVars>,
     /// Set by a watchdog probe: every other non-urgent edge is disabled.
     pub frozen: VarId,
-    /// Engine urgency: some thread may begin a codel or start a round.
+    /// Some urgent edge is enabled (a thread may begin a codel or start a
+    /// round, as the engine's urgency; or a watchdog may arm or disarm): an
+    /// integer predicate, for printers without urgent edges.
     pub urgency: Expr,
 }
 
@@ -976,6 +981,9 @@ struct Svc {
     placement: Option<(usize, usize)>,
     /// Clocked watchdog: clock and max-time in units.
     watch: Option<(ClockId, i64)>,
+    /// 1 while the clocked watchdog is `on` (its location as a variable,
+    /// so that the urgency of arming and disarming is an integer predicate).
+    armed: Option<VarId>,
     /// Has a max-time.
     watchdog: bool,
     /// Control codel WCET in units, when it has a control codel.
@@ -1033,13 +1041,13 @@ impl Network {
         for s in c.services.ids() {
             bld.watchdog_process(s);
         }
-        bld.net.urgency = bld.engine_urgency();
+        bld.net.urgency = bld.network_urgency();
         bld.net
     }
 }
 
 /// Event names and what they do.
-const EVENTS: [(&str, &str); 14] = [
+const EVENTS: [(&str, &str); 15] = [
     ("setup", "the component starts"),
     (
         "request",
@@ -1063,6 +1071,10 @@ const EVENTS: [(&str, &str); 14] = [
         "the watchdog checks whether time can pass its max-time",
     ),
     ("exceed", "the service is still running after its max-time"),
+    (
+        "resume",
+        "the watchdog's probe ends: time cannot pass the max-time",
+    ),
 ];
 
 fn event_id(name: &str) -> EventId {
@@ -1403,6 +1415,7 @@ impl<'a> Builder<'a> {
                     .unwrap_or_default(),
                 placement: None,
                 watch: None,
+                armed: None,
                 watchdog: svc.max_time.is_some(),
                 ctl_wcet,
             });
@@ -1566,6 +1579,19 @@ impl<'a> Builder<'a> {
                 ),
             );
             self.svcs[index(s)].watch = Some((clock, max));
+            let armed = self.int(
+                &format!("{}_armed", svc.name.name),
+                None,
+                0,
+                1,
+                0,
+                mt.span,
+                format!(
+                    "1 while {}'s watchdog follows an instance (its location `on`)",
+                    svc.name.name
+                ),
+            );
+            self.svcs[index(s)].armed = Some(armed);
         }
         self.net.horizon = max_const + 1;
         self.net.services = self
@@ -1796,6 +1822,29 @@ impl<'a> Builder<'a> {
 
     fn engine_urgency(&self) -> Expr {
         Expr::or((0..self.thrs.len()).map(|k| self.thread_urgency(k)))
+    }
+
+    /// The guards of a watchdog's urgent edges: (arm, disarm).
+    fn arming(&self, s: ServiceId) -> Option<(Expr, Expr)> {
+        let armed = Expr::var(self.svc(s).armed?);
+        let live = self.live(s);
+        Some((
+            Expr::and([Expr::eq(armed.clone(), Expr::int(0)), live.clone()]),
+            Expr::and([Expr::eq(armed, Expr::int(1)), Expr::negation(live)]),
+        ))
+    }
+
+    /// Some urgent edge of the network is enabled: the engine's urgency
+    /// plus the arming and disarming of watchdogs.
+    fn network_urgency(&self) -> Expr {
+        let mut parts = vec![self.engine_urgency()];
+        for v in &self.svcs {
+            if let Some((arm, disarm)) = self.arming(v.id) {
+                parts.push(arm);
+                parts.push(disarm);
+            }
+        }
+        Expr::or(parts)
     }
 
     fn ready_positions(&self, s: ServiceId) -> Vec<PosId> {
@@ -2693,28 +2742,22 @@ impl<'a> Builder<'a> {
                         ),
                     },
                 );
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: idle,
-                        to: ov,
-                        event: event_id("overrun"),
-                        guard: Expr::and([
-                            self.frozen_ok(),
-                            Expr::cmp(CmpOp::Ge, self.elig_sum(k), Expr::int(1)),
-                        ]),
-                        clock_guard: at_period.clone(),
-                        statements: Vec::new(),
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: th.name.span,
-                        description: format!(
-                            "{} wakes up with eligible services that have not run their codel: overrun",
-                            t.name
-                        ),
-                    },
-                );
-                for &from in running.values() {
+                self.idle_overruns(k, p, idle, ov, &at_period);
+                for (&codel, &from) in &running {
+                    // A codel that has run its whole WCET ends at this
+                    // instant, before the wake-up (codel ends at the same
+                    // instant take priority): only a codel that could still
+                    // run makes the wake-up an overrun.
+                    let w = self.wcet[codel.0 as usize];
+                    if w == 0 {
+                        continue;
+                    }
+                    let mut guard = at_period.clone();
+                    guard.push(ClockConstraint {
+                        clock: t.exec_clock,
+                        op: CmpOp::Lt,
+                        bound: w,
+                    });
                     let label = self.net.processes[p.0 as usize].locations[from.0 as usize]
                         .labels
                         .clone();
@@ -2725,13 +2768,13 @@ impl<'a> Builder<'a> {
                             to: ov,
                             event: event_id("overrun"),
                             guard: self.frozen_ok(),
-                            clock_guard: at_period.clone(),
+                            clock_guard: guard,
                             statements: Vec::new(),
                             urgent: false,
                             labels: label,
                             span: th.name.span,
                             description: format!(
-                                "{} wakes up while a codel still runs: overrun",
+                                "{} wakes up while a codel still runs, before its WCET: overrun",
                                 t.name
                             ),
                         },
@@ -2761,6 +2804,123 @@ impl<'a> Builder<'a> {
                 );
             }
         }
+    }
+
+    /// The overruns of thread `k` woken up idle with services still to run
+    /// a codel this period (the engine's `overrun_zone`): genuine when one
+    /// of those codels has a positive WCET; when all take no time, only
+    /// while one waits for a lock held by a running codel of another
+    /// thread (or the control codel) that is below its WCET (at its WCET it
+    /// ends first, at the same instant).
+    fn idle_overruns(
+        &mut self,
+        k: usize,
+        p: ProcessId,
+        idle: LocationId,
+        ov: LocationId,
+        at_period: &[ClockConstraint],
+    ) {
+        let t = self.thrs[k].clone();
+        let mut positive = Vec::new();
+        let mut zero = Vec::new();
+        for (slot, &s) in t.members.iter().enumerate() {
+            for pos in self.ready_positions(s) {
+                let Some(codel) = self.machine(s).positions[usize::from(pos)].codel() else {
+                    continue;
+                };
+                let at = Expr::and([
+                    Expr::eq(Expr::elem(t.elig, slot as i64), Expr::int(1)),
+                    self.at(s, pos),
+                ]);
+                if self.wcet[codel.0 as usize] > 0 {
+                    positive.push(at);
+                } else {
+                    zero.push((at, codel));
+                }
+            }
+        }
+        let any_positive = Expr::or(positive);
+        let span = self.c.threads[t.id].name.span;
+        let mut edges = vec![(
+            Expr::and([self.frozen_ok(), any_positive.clone()]),
+            at_period.to_vec(),
+            "a service still to run has a codel with a WCET",
+        )];
+        for (at, codel) in zero {
+            for (holder, clock, w) in self.lock_holders(k, codel) {
+                let mut cg = at_period.to_vec();
+                cg.push(ClockConstraint {
+                    clock,
+                    op: CmpOp::Lt,
+                    bound: w,
+                });
+                let guard = Expr::and([
+                    self.frozen_ok(),
+                    Expr::negation(any_positive.clone()),
+                    at.clone(),
+                    holder,
+                ]);
+                edges.push((
+                    guard,
+                    cg,
+                    "a service still to run waits for a lock held by a running codel",
+                ));
+            }
+        }
+        for (guard, clock_guard, why) in edges {
+            self.add_edge(
+                p,
+                Edge {
+                    from: idle,
+                    to: ov,
+                    event: event_id("overrun"),
+                    guard,
+                    clock_guard,
+                    statements: Vec::new(),
+                    urgent: false,
+                    labels: Vec::new(),
+                    span,
+                    description: format!("{} wakes up with work left ({why}): overrun", t.name),
+                },
+            );
+        }
+    }
+
+    /// The running codels of other threads, and the control codels, that
+    /// hold a lock `codel` of thread `k` needs: (it runs, its execution
+    /// clock, its WCET), for those with a positive WCET.
+    fn lock_holders(&self, k: usize, codel: CodelId) -> Vec<(Expr, ClockId, i64)> {
+        let uses = self.c.codels[codel].structures();
+        let mut out = Vec::new();
+        for (k2, t2) in self.thrs.iter().enumerate().filter(|&(k2, _)| k2 != k) {
+            let _ = k2;
+            for &s2 in &t2.members {
+                for q in self.running_positions(s2) {
+                    let Some(c2) = self.machine(s2).positions[usize::from(q)].codel() else {
+                        continue;
+                    };
+                    let w = self.wcet[c2.0 as usize];
+                    if w > 0 && conflict(&uses, &self.c.codels[c2].structures()) {
+                        out.push((self.at(s2, q), t2.exec_clock, w));
+                    }
+                }
+            }
+        }
+        if let (Some(ctl), Some(clock)) = (self.ctl, self.ctl_clock) {
+            for r in &self.svcs {
+                let Some(w) = r.ctl_wcet.filter(|&w| w > 0) else {
+                    continue;
+                };
+                if conflict(&uses, &r.control_uses) {
+                    out.push((
+                        Expr::eq(Expr::var(ctl), Expr::int(i64::from(r.id.0))),
+                        clock,
+                        w,
+                    ));
+                }
+            }
+        }
+        out
     }
 
     fn watchdog_process(&mut self, s: ServiceId) {
@@ -2900,15 +3060,17 @@ impl<'a> Builder<'a> {
                     Some(LabelKind::Timeout(s)),
                 );
                 let live = self.live(s);
+                let (arm, disarm) = self.arming(s).unwrap_or((Expr::FALSE, Expr::FALSE));
+                let armed = v.armed.unwrap_or(self.net.frozen);
                 self.add_edge(
                     p,
                     Edge {
                         from: off,
                         to: on,
                         event: event_id("arm"),
-                        guard: live.clone(),
+                        guard: arm,
                         clock_guard: Vec::new(),
-                        statements: Vec::new(),
+                        statements: vec![Stmt::set(armed, Expr::int(1))],
                         urgent: true,
                         labels: Vec::new(),
                         span: mt.span,
@@ -2921,9 +3083,9 @@ impl<'a> Builder<'a> {
                         from: on,
                         to: off,
                         event: event_id("disarm"),
-                        guard: Expr::negation(live.clone()),
+                        guard: disarm,
                         clock_guard: Vec::new(),
-                        statements: Vec::new(),
+                        statements: vec![Stmt::set(armed, Expr::int(0))],
                         urgent: true,
                         labels: Vec::new(),
                         span: mt.span,
@@ -3006,6 +3168,23 @@ impl<'a> Builder<'a> {
                         ),
                     },
                 );
+                self.add_edge(
+                    p,
+                    Edge {
+                        from: probe,
+                        to: on,
+                        event: event_id("resume"),
+                        guard: Expr::TRUE,
+                        clock_guard: vec![bound(CmpOp::Le)],
+                        statements: vec![Stmt::set(self.net.frozen, Expr::int(0))],
+                        urgent: false,
+                        labels: Vec::new(),
+                        span: mt.span,
+                        description: format!(
+                            "observer: time cannot pass {name}'s max-time here; everything resumes"
+                        ),
+                    },
+                );
             }
         }
     }
@@ -3051,6 +3230,44 @@ mod tests {
             Expr::ite(Expr::TRUE, Expr::int(4), Expr::int(5)),
             Expr::int(4)
         );
+    }
+
+    #[test]
+    fn negation_and_intervals() {
+        for op in [
+            CmpOp::Eq,
+            CmpOp::Ne,
+            CmpOp::Lt,
+            CmpOp::Le,
+            CmpOp::Gt,
+            CmpOp::Ge,
+        ] {
+            assert_eq!(op.negate().negate(), op);
+            for (a, b) in [(1, 2), (2, 2), (3, 2)] {
+                assert_ne!(op.eval(a, b), op.negate().eval(a, b), "{op:?} {a} {b}");
+            }
+        }
+        let v = Expr::var(VarId(0));
+        assert_eq!(Expr::within(&v, 2, 2), Expr::eq(v.clone(), Expr::int(2)));
+        assert!(matches!(Expr::within(&v, 1, 3), Expr::And(ref items) if items.len() == 2));
+        assert_eq!(Expr::or([Expr::TRUE, v.clone()]), Expr::TRUE);
+        assert_eq!(
+            Expr::and([v.clone(), v.clone()]),
+            v,
+            "duplicates are dropped"
+        );
+    }
+
+    #[test]
+    fn fresh_names_avoid_keywords_and_used_names() {
+        let mut r = Renaming::default();
+        r.used.insert("hurry".to_owned());
+        assert_eq!(r.fresh("hurry"), "hurry_");
+        assert_eq!(r.fresh("hurry"), "hurry__");
+        assert_eq!(r.fresh("int"), "int_");
+        assert_eq!(r.get("int"), "int__", "a renaming avoids fresh names too");
+        assert_eq!(r.name("int"), "int__");
+        assert_eq!(r.name("plain"), "plain");
     }
 
     #[test]

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 
 use genom_checker::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
-use genom_model::render::{FileReport, human};
-use genom_model::{Code, Counts, Severity};
+use genom_model::Severity;
+use genom_model::render::{FileReport, human, json};
 use genom_parser::FsLoader;
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
-use crate::cli::{ExportArgs, ExportFormat, OutputArgs};
+use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
 use crate::terminal;
 
 /// Runs the export.
@@ -29,30 +29,69 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
         }
     };
     let verification = verification(&result);
+    if let Some(status) = refuse(args, output, &shown, &result, &verification) {
+        return status;
+    }
     let Some(component) = &result.component else {
-        print_report(&shown, &result, output);
-        eprintln!("error: `{shown}` has no component to export");
         return EXIT_ERRORS;
     };
-    if !verification.verified && !args.allow_unverified {
-        print_report(&shown, &result, output);
-        eprintln!(
-            "error: refusing to export `{shown}`: verification has errors or is incomplete (use --allow-unverified to export anyway)"
-        );
-        return EXIT_ERRORS;
-    }
     let input = ExportInput {
         component,
         sources: &result.sources,
         verification: &verification,
     };
     match genom_export::export(format(args.target), &input) {
-        Ok(exported) => write(args, format(args.target), &exported),
+        Ok(exported) => write(args, &exported),
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS
         }
     }
+}
+
+/// Refuses an unverified export (the report on stdout, as `check` prints
+/// it, and the reason on stderr), or, with `--allow-unverified`, reports
+/// on stderr and lets it through. `Some(status)` when refused.
+fn refuse(
+    args: &ExportArgs,
+    output: &OutputArgs,
+    shown: &str,
+    result: &CheckResult,
+    verification: &Verification,
+) -> Option<u8> {
+    let denied = output.deny == Some(Deny::Warnings) && verification.counts.warnings > 0;
+    if verification.verified && !denied {
+        return None;
+    }
+    let color = terminal::use_color(output.color);
+    if result.component.is_none() {
+        terminal::emit(&report_text(shown, result, output, color));
+        eprintln!("error: `{shown}` has no component to export");
+        return Some(EXIT_ERRORS);
+    }
+    if !args.allow_unverified {
+        terminal::emit(&report_text(shown, result, output, color));
+        eprintln!(
+            "error: refusing to export `{shown}`: {} (use --allow-unverified to export it marked unverified)",
+            reasons(verification, denied)
+        );
+        return Some(EXIT_ERRORS);
+    }
+    // stdout may carry the export: the report goes to stderr.
+    let color = output.color == Color::Always;
+    eprint!("{}", report_text(shown, result, output, color));
+    if verification.verified {
+        eprintln!(
+            "warning: exporting `{shown}` despite {}",
+            reasons(verification, denied)
+        );
+    } else {
+        eprintln!(
+            "warning: exporting `{shown}` unverified: {}; the export is marked `verified: false`",
+            reasons(verification, denied)
+        );
+    }
+    None
 }
 
 fn format(f: ExportFormat) -> Format {
@@ -71,87 +110,82 @@ fn format(f: ExportFormat) -> Format {
 
 /// What the check established.
 fn verification(result: &CheckResult) -> Verification {
-    let counts = Counts::of(&result.diagnostics);
-    let stats = result.statistics.as_ref();
-    let complete = stats.is_some_and(|s| s.complete);
-    let verified = counts.errors == 0 && complete && result.component.is_some();
-    let incomplete = result
-        .diagnostics
-        .iter()
-        .any(|d| d.code == Code::Incomplete);
-    let properties = if verified && !incomplete {
-        proven(result)
-    } else {
-        Vec::new()
-    };
-    Verification {
-        verified,
-        counts,
-        states: stats.map_or(0, |s| s.states),
-        transitions: stats.map_or(0, |s| s.transitions),
-        complete,
-        properties,
-        tool_version: env!("CARGO_PKG_VERSION").to_owned(),
-    }
+    Verification::of(
+        result.component.as_ref(),
+        &result.diagnostics,
+        result.statistics.as_ref(),
+        env!("CARGO_PKG_VERSION"),
+    )
 }
 
-/// The properties a clean, complete check proves.
-fn proven(result: &CheckResult) -> Vec<String> {
-    let mut out: Vec<String> = [
-        "static-semantics",
-        "deadlock-freedom",
-        "starvation-freedom",
-        "no-dead-service",
-        "no-unbounded-interrupt",
-    ]
-    .iter()
-    .map(|s| (*s).to_owned())
-    .collect();
-    let warned = |code: Code| {
-        result
-            .diagnostics
-            .iter()
-            .any(|d| d.code == code && d.severity >= Severity::Warning)
-    };
-    if !warned(Code::UnreachableCodel) {
-        out.push("codel-reachability".to_owned());
+/// Why the export is not verified, for messages.
+fn reasons(v: &Verification, denied: bool) -> String {
+    let mut out = Vec::new();
+    if !v.error_codes.is_empty() {
+        out.push(format!(
+            "{} error{} ({})",
+            v.counts.errors,
+            if v.counts.errors == 1 { "" } else { "s" },
+            v.error_codes.join(", ")
+        ));
     }
-    let timed = result.component.as_ref().is_some_and(|c| {
-        c.codels.values().any(|k| k.wcet.is_some())
-            || c.services.values().any(|s| s.max_time.is_some())
-    });
-    if timed {
-        out.push("no-thread-overrun".to_owned());
-        out.push("max-time".to_owned());
+    if !v.complete && v.counts.errors == 0 {
+        out.push("verification incomplete".to_owned());
     }
-    out
+    if denied {
+        out.push(format!(
+            "{} warning{} (denied by --deny warnings)",
+            v.counts.warnings,
+            if v.counts.warnings == 1 { "" } else { "s" }
+        ));
+    }
+    out.join(", ")
 }
 
-fn print_report(shown: &str, result: &CheckResult, output: &OutputArgs) {
+/// The check's report, as `check` prints it (human or JSON).
+fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bool) -> String {
     let report = FileReport {
         path: shown,
         sources: &result.sources,
         diagnostics: &result.diagnostics,
         statistics: result.statistics.as_ref(),
     };
+    if output.format == ReportFormat::Json {
+        return json::render(std::slice::from_ref(&report)) + "\n";
+    }
     let options = human::HumanOptions {
-        color: terminal::use_color(output.color),
+        color,
         width: terminal::width(),
     };
-    for d in report
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity >= Severity::Warning)
-    {
-        terminal::emit(&human::render_diagnostic(report.sources, d, options));
+    let mut out = String::new();
+    for d in report.diagnostics {
+        if !(output.quiet && d.severity == Severity::Advice) {
+            out.push_str(&human::render_diagnostic(report.sources, d, options));
+        }
     }
-    terminal::emit(&(human::render_summary(shown, report.counts()) + "\n"));
+    if !output.quiet {
+        out.push_str(&human::render_summary(shown, report.counts()));
+        if let Some(s) = report.statistics {
+            out.push_str(&format!(
+                " ({} states, {} transitions, {:.1} ms{})",
+                s.states,
+                s.transitions,
+                s.time_ms,
+                if s.complete { "" } else { ", incomplete" }
+            ));
+        }
+        out.push('\n');
+    }
+    out
 }
 
 /// Writes the main output (stdout without `-o`) and companion files.
-fn write(args: &ExportArgs, format: Format, exported: &genom_export::Exported) -> u8 {
+fn write(args: &ExportArgs, exported: &genom_export::Exported) -> u8 {
     let Some(path) = &args.output else {
         terminal::emit(&exported.main);
+        for (suffix, _) in &exported.extra {
+            eprintln!("note: the `{suffix}` companion file is written only with -o");
+        }
         return EXIT_OK;
     };
     if let Err(e) = std::fs::write(path, &exported.main) {
@@ -165,7 +199,6 @@ fn write(args: &ExportArgs, format: Format, exported: &genom_export::Exported) -
             return EXIT_USAGE;
         }
     }
-    let _ = format;
     EXIT_OK
 }
 

@@ -1,5 +1,6 @@
 //! The subcommands. Each returns the process exit status.
 
+mod budget;
 mod check;
 mod explain;
 mod export;
@@ -21,6 +22,7 @@ pub fn run(cli: Cli) -> u8 {
         Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::Export(args)) => export::run(&args, &cli.output),
         Some(Command::Generate(args)) => generate::run(&args),
+        Some(Command::Budget(args)) => budget::run(&args, &cli.output),
         None => check::run(&cli.check, &cli.output),
     }
 }

@@ -565,17 +565,13 @@ impl Checker<'_> {
         let Some(ctl) = self.c.services[s].control else {
             return Ok(());
         };
-        if step.codel.is_none() {
-            // The untimed engine's own `request` step, emitted when the
-            // control codel that began earlier accepts (see the report).
-            return match self.control {
-                Some((r, _)) if r == s => Ok(()),
-                _ if step.codel.is_none() => Ok(()),
-                _ => Err("a request while another is handled".to_owned()),
-            };
-        }
         if self.control.is_some() {
             return Err("the control thread handles one request at a time".to_owned());
+        }
+        if step.codel.is_none() {
+            // A request rejected by rules 1–3 (`NOT_INITIALIZED`,
+            // `FORBIDDEN`, `BUSY`): its control codel does not run.
+            return Ok(());
         }
         // FIFO: a thread at its turn that wants a lock of this control codel
         // gets it first.

@@ -257,10 +257,11 @@ impl Analysis {
 pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
     let c = sys.component();
     found.root.get_or_insert(id);
-    if cfg.init_done && found.init_success.is_none() && c.init_service().is_some() {
+    if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
         found.init_success = Some(id);
     }
     let n = cfg.main.len();
+    let running = sys.running(cfg);
     for i in 0..n {
         let s = sys.service(i);
         let m = sys.machine_of(i);
@@ -271,7 +272,7 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
         if cfg.main[i] != IDLE {
             found.started.insert(s);
         }
-        if sys.request_enabled(cfg, i) {
+        if sys.request_enabled_among(cfg, i, &running) {
             if let Some(k) = c.services[s].control {
                 found.reached.insert(k);
             }

@@ -115,7 +115,7 @@ pub fn explore<M: Model>(
     let mut transitions = 0u64;
     let mut next: usize = 0;
     let mut stopped = None;
-    while next < store.len() {
+    'expansions: while next < store.len() {
         stopped = check_limits(&store, limits, next);
         if stopped.is_some() {
             break;
@@ -142,6 +142,10 @@ pub fn explore<M: Model>(
             if new {
                 visit(sid, &succ);
             }
+            stopped = check_successor(&store, limits, new, transitions);
+            if stopped.is_some() {
+                break 'expansions;
+            }
         }
     }
     Exploration {
@@ -163,6 +167,29 @@ fn check_limits<A: Copy, Z: Subsumes>(
         return Some(Stop::States);
     }
     if expanded % 1024 != 0 {
+        return None;
+    }
+    if limits.deadline.is_some_and(|d| Instant::now() >= d) {
+        return Some(Stop::Time);
+    }
+    (store.bytes() >= limits.max_bytes).then_some(Stop::Memory)
+}
+
+/// The limits checked while one state is expanded (a state of a large
+/// component has thousands of successors, each costly to visit): the state
+/// limit after each new state (which is unexpanded, so stopping there is
+/// what the next [`check_limits`] would do), time and memory every 64
+/// transitions.
+fn check_successor<A: Copy, Z: Subsumes>(
+    store: &Store<A, Z>,
+    limits: Limits,
+    new: bool,
+    transitions: u64,
+) -> Option<Stop> {
+    if new && store.len() >= limits.max_states {
+        return Some(Stop::States);
+    }
+    if transitions % 64 != 0 {
         return None;
     }
     if limits.deadline.is_some_and(|d| Instant::now() >= d) {

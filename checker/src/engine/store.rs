@@ -21,6 +21,11 @@ pub type StateId = u32;
 pub trait Subsumes {
     /// Whether `self` is included in `other`.
     fn subsumed_by(&self, other: &Self) -> bool;
+
+    /// Bytes the value owns on the heap (counted against `--max-memory`).
+    fn heap_bytes(&self) -> usize {
+        0
+    }
 }
 
 impl Subsumes for () {
@@ -37,6 +42,8 @@ pub struct Store<A, Z = ()> {
     width: usize,
     words: Vec<u64>,
     zones: Vec<Z>,
+    /// Heap bytes owned by the stored zones.
+    zone_heap: usize,
     /// The previous state with the same words.
     same: Vec<StateId>,
     /// States whose zone a later state includes: no need to expand them.
@@ -63,6 +70,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             width: width.max(1),
             words: Vec::new(),
             zones: Vec::new(),
+            zone_heap: 0,
             same: Vec::new(),
             covered: Vec::new(),
             table: HashTable::new(),
@@ -117,6 +125,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         }
         let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
         self.words.extend_from_slice(key);
+        self.zone_heap += zone.heap_bytes();
         self.zones.push(zone);
         self.covered.push(false);
         self.same.push(head.unwrap_or(NONE));
@@ -195,6 +204,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             + self.covered.capacity()
             + self.via.capacity() * size_of::<Option<A>>()
             + self.zones.capacity() * size_of::<Z>()
+            + self.zone_heap
     }
 }
 

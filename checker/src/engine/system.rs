@@ -94,7 +94,8 @@ pub struct System<'a> {
     init: Option<ServiceId>,
     /// Stop expanding once init has completed (the pre-init phase).
     pre_init: bool,
-    /// Structures used by each codel, with write access.
+    /// Structures used by each codel of a member, with write access (empty
+    /// for the codels of other services).
     codel_structures: Vec<Vec<(StructureId, bool)>>,
     /// Words per encoded configuration.
     width: usize,
@@ -108,11 +109,21 @@ impl<'a> System<'a> {
         for (i, &s) in members.iter().enumerate() {
             index[s.0 as usize] = Some(i);
         }
-        let members: Vec<Member> = members.iter().map(|&s| member(c, b, &index, s)).collect();
+        let (delayers, forbidders) = reverse_rules(c, &index, members);
+        let members: Vec<Member> = members
+            .iter()
+            .zip(delayers.into_iter().zip(forbidders))
+            .map(|(&s, rules)| member(c, b, &index, s, rules))
+            .collect();
+        // Only the codels of members are ever asked about: computing the
+        // others for every cluster made many small clusters quadratic.
         let codel_structures = c
             .codels
             .values()
-            .map(genom_model::component::Codel::structures)
+            .map(|k| match index[k.service.0 as usize] {
+                Some(_) => k.structures(),
+                None => Vec::new(),
+            })
             .collect();
         let width = width(&members);
         System {
@@ -125,6 +136,11 @@ impl<'a> System<'a> {
             codel_structures,
             width,
         }
+    }
+
+    /// The component's init service.
+    pub fn init(&self) -> Option<ServiceId> {
+        self.init
     }
 
     /// The component.
@@ -176,6 +192,24 @@ impl<'a> System<'a> {
     /// Steps 1–3: whether a request for member `i` gets to its control
     /// codel, and the control codel can take its locks now.
     pub fn request_enabled(&self, cfg: &Config, i: usize) -> bool {
+        self.request_allowed(cfg, i) && !self.locked(cfg, &self.members[i].control, None)
+    }
+
+    /// [`Self::request_enabled`] given the codels [`Self::running`] in
+    /// `cfg`: callers asking for every member compute them once (a scan of
+    /// all members per call made each visited state quadratic).
+    pub fn request_enabled_among(
+        &self,
+        cfg: &Config,
+        i: usize,
+        running: &[(usize, CodelId)],
+    ) -> bool {
+        self.request_allowed(cfg, i)
+            && !self.locked_by(running.iter().copied(), &self.members[i].control, None)
+    }
+
+    /// Steps 1–2 (init, `forbids`, an instance already there).
+    fn request_allowed(&self, cfg: &Config, i: usize) -> bool {
         let m = &self.members[i];
         if !cfg.init_done && self.init != Some(m.service) {
             return false;
@@ -183,10 +217,19 @@ impl<'a> System<'a> {
         if m.forbidders.iter().any(|&t| Self::has_instance(cfg, t)) {
             return false;
         }
-        if Self::has_instance(cfg, i) && !m.self_stop {
-            return false;
-        }
-        !self.locked(cfg, &m.control, None)
+        !Self::has_instance(cfg, i) || m.self_stop
+    }
+
+    /// The members running a codel in `cfg`, with that codel.
+    pub fn running(&self, cfg: &Config) -> Vec<(usize, CodelId)> {
+        self.running_iter(cfg).collect()
+    }
+
+    fn running_iter<'c>(&'c self, cfg: &'c Config) -> impl Iterator<Item = (usize, CodelId)> + 'c {
+        (0..self.members.len()).filter_map(move |j| {
+            let p = self.position(cfg, j);
+            p.codel().filter(|_| p.is_running()).map(|codel| (j, codel))
+        })
     }
 
     /// Whether some running codel of another thread (or of `thread`)
@@ -197,11 +240,17 @@ impl<'a> System<'a> {
         uses: &[(StructureId, bool)],
         thread: Option<(usize, ThreadId)>,
     ) -> bool {
-        (0..self.members.len()).any(|j| {
-            let p = self.position(cfg, j);
-            let Some(codel) = p.codel().filter(|_| p.is_running()) else {
-                return false;
-            };
+        self.locked_by(self.running_iter(cfg), uses, thread)
+    }
+
+    /// [`Self::locked`] over the given running codels.
+    fn locked_by(
+        &self,
+        mut running: impl Iterator<Item = (usize, CodelId)>,
+        uses: &[(StructureId, bool)],
+        thread: Option<(usize, ThreadId)>,
+    ) -> bool {
+        running.any(|(j, codel)| {
             if let Some((me, t)) = thread {
                 if j == me {
                     return false;
@@ -527,7 +576,8 @@ impl<'a> System<'a> {
         out
     }
 
-    /// The structures a codel uses, with write access.
+    /// The structures a codel of a member uses, with write access (empty
+    /// for a codel of another service).
     pub fn codel_uses(&self, codel: CodelId) -> &[(StructureId, bool)] {
         &self.codel_structures[codel.0 as usize]
     }
@@ -632,7 +682,45 @@ pub fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
         .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
 }
 
-fn member(c: &Component, b: &Behaviour, index: &[Option<usize>], s: ServiceId) -> Member {
+/// For each member (in order), the other members whose `delays`, and
+/// those whose `forbids`, name it: ascending, without repetition. One pass
+/// over the members' rules (scanning every service for every member was
+/// quadratic in the size of the component).
+fn reverse_rules(
+    c: &Component,
+    index: &[Option<usize>],
+    members: &[ServiceId],
+) -> (Vec<Vec<usize>>, Vec<Vec<usize>>) {
+    let mut delayers = vec![Vec::new(); members.len()];
+    let mut forbidders = vec![Vec::new(); members.len()];
+    for (j, &t) in members.iter().enumerate() {
+        let ts = &c.services[t];
+        for (rule, out) in [(&ts.delays, &mut delayers), (&ts.forbids, &mut forbidders)] {
+            for r in rule.iter().filter(|r| r.id != t) {
+                let Some(list) = index
+                    .get(r.id.0 as usize)
+                    .copied()
+                    .flatten()
+                    .and_then(|i| out.get_mut(i))
+                else {
+                    continue;
+                };
+                if list.last() != Some(&j) {
+                    list.push(j);
+                }
+            }
+        }
+    }
+    (delayers, forbidders)
+}
+
+fn member(
+    c: &Component,
+    b: &Behaviour,
+    index: &[Option<usize>],
+    s: ServiceId,
+    (delayers, forbidders): (Vec<usize>, Vec<usize>),
+) -> Member {
     let svc = &c.services[s];
     let idx = |t: ServiceId| index.get(t.0 as usize).copied().flatten();
     let mut stops: Vec<usize> = Vec::new();
@@ -641,17 +729,6 @@ fn member(c: &Component, b: &Behaviour, index: &[Option<usize>], s: ServiceId) -
             stops.push(t);
         }
     }
-    let others = |rule: fn(
-        &genom_model::component::Service,
-    ) -> &Vec<genom_model::component::Ref<ServiceId>>| {
-        c.services
-            .iter()
-            .filter(|&(t, ts)| t != s && rule(ts).iter().any(|r| r.id == s))
-            .filter_map(|(t, _)| idx(t))
-            .collect::<Vec<usize>>()
-    };
-    let delayers = others(|t| &t.delays);
-    let forbidders = others(|t| &t.forbids);
     let control = svc
         .control
         .map(|k| c.codels[k].structures())
@@ -762,9 +839,10 @@ impl Model for System<'_> {
     }
 
     fn actions(&self, cfg: &Config, out: &mut Vec<Action>) {
+        let running = self.running(cfg);
         for (i, m) in self.members.iter().enumerate() {
             let s = m.service;
-            if self.request_enabled(cfg, i) {
+            if self.request_enabled_among(cfg, i, &running) {
                 out.push(Action::Request(s));
             }
             let mach = self.machine(i);

@@ -241,15 +241,18 @@ impl Resolver {
     fn data_step(&mut self, ty: &Ty, elem: &PathElem) -> Option<(Step, Ty)> {
         match elem {
             PathElem::Field(f) => {
+                // The field names are gathered only for the diagnostic
+                // (cloning them all for every reference made resolving
+                // quadratic in the size of a large `ids`).
                 let found = self.c.types.fields(ty).map(|fs| {
-                    (
-                        fs.iter().find(|x| x.name == f.name).map(|x| x.ty.clone()),
-                        fs.iter().map(|x| x.name.clone()).collect::<Vec<_>>(),
-                    )
+                    fs.iter()
+                        .find(|x| x.name == f.name)
+                        .map(|x| x.ty.clone())
+                        .ok_or_else(|| fs.iter().map(|x| x.name.clone()).collect::<Vec<_>>())
                 });
                 match found {
-                    Some((Some(t), _)) => Some((Step::Field(f.name.clone()), t)),
-                    Some((None, names)) => {
+                    Some(Ok(t)) => Some((Step::Field(f.name.clone()), t)),
+                    Some(Err(names)) => {
                         let shown = self.show(ty);
                         self.report(unknown_name::unknown_field(
                             &f.name,

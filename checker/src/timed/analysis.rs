@@ -11,7 +11,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use genom_model::behaviour::{Behaviour, Position};
-use genom_model::component::{Component, Outcome, ServiceId, ThreadId};
+use genom_model::component::{CodelId, Component, Outcome, ServiceId, ThreadId};
 use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::model::{TState, TimedSystem, Violation};
@@ -31,6 +31,18 @@ pub struct Overrun {
     pub trace: Trace,
 }
 
+/// A codel whose WCET is longer than its thread's period
+/// (`codel-overrun`), with a timed trace where it runs at a wake-up of its
+/// thread.
+#[derive(Debug, Clone)]
+pub struct CodelOverrun {
+    /// The codel.
+    pub codel: CodelId,
+    /// The trace: the codel starts, and its thread wakes up again before it
+    /// can have finished (an overrun of the thread by that codel).
+    pub trace: Trace,
+}
+
 /// A service that can miss its max-time.
 #[derive(Debug, Clone)]
 pub struct Exceeded {
@@ -46,6 +58,9 @@ pub struct Exceeded {
 pub struct TimedFacts {
     /// Threads that can overrun, first trace each.
     pub overruns: Vec<Overrun>,
+    /// Codels longer than their thread's period that run in some
+    /// execution, first trace each (in codel order).
+    pub codel_overruns: Vec<CodelOverrun>,
     /// Services that can miss their max-time, first trace each.
     pub exceeded: Vec<Exceeded>,
     /// Services some execution ends by itself within its max-time.
@@ -58,6 +73,7 @@ pub struct TimedFacts {
 #[derive(Default)]
 struct TFound {
     overruns: BTreeMap<ThreadId, StateId>,
+    codel_overruns: BTreeMap<CodelId, StateId>,
     exceeded: BTreeMap<ServiceId, (StateId, usize, usize, i64)>,
     in_time: BTreeSet<ServiceId>,
     acknowledged: BTreeSet<ServiceId>,
@@ -141,6 +157,23 @@ fn explore_timed(
         );
         facts.overruns.push(Overrun { thread, trace });
     }
+    for (&codel, &id) in &tfound.codel_overruns {
+        let k = &c.codels[codel];
+        let thread = c.services[k.service]
+            .thread
+            .map_or("", |t| &c.threads[t.id].name.name);
+        let text = format!(
+            "`{}::{}` is still running when thread `{thread}` wakes up again",
+            c.services[k.service].name.name, k.name.name
+        );
+        let trace = timed_trace(
+            &ts,
+            &e.store.path(id),
+            Target::Any,
+            TraceStep::new(Event::Violation, text),
+        );
+        facts.codel_overruns.push(CodelOverrun { codel, trace });
+    }
     for (&service, &(id, member, clock, max)) in &tfound.exceeded {
         let s = &c.services[service];
         let m = s.max_time.map_or(0, |m| m.ns);
@@ -173,6 +206,12 @@ fn tvisit(ts: &TimedSystem<'_>, id: StateId, st: &TState, found: &mut TFound) {
     if let Some(Violation::Overrun(k)) = st.violation {
         if let Some(t) = ts.threads.get(usize::from(k)) {
             found.overruns.entry(t.id).or_insert(id);
+        }
+        if let Some(codel) = ts
+            .running_on(st, usize::from(k))
+            .filter(|&x| longer_than_period(ts, x))
+        {
+            found.codel_overruns.entry(codel).or_insert(id);
         }
         return;
     }
@@ -209,6 +248,16 @@ fn tvisit(ts: &TimedSystem<'_>, id: StateId, st: &TState, found: &mut TFound) {
             }
         }
     }
+}
+
+/// Whether codel `k`'s WCET is longer than its thread's period.
+fn longer_than_period(ts: &TimedSystem<'_>, k: CodelId) -> bool {
+    let c = ts.sys.component();
+    let codel = &c.codels[k];
+    let period = c.services[codel.service]
+        .thread
+        .and_then(|t| c.threads[t.id].period);
+    matches!((codel.wcet, period), (Some(w), Some(p)) if w.ns > p.ns)
 }
 
 /// Member `i` runs a codel that may end its instance by itself (an `end`

@@ -5,7 +5,10 @@
 //! - a periodic thread wakes up at every multiple of its period and runs, in
 //!   acknowledgment order, one codel of each service that was active at the
 //!   wake-up; a wake-up with codels of the previous period unfinished is a
-//!   *thread overrun* (a terminal violation state);
+//!   *thread overrun* (a terminal violation state), but only where that
+//!   work needs time beyond the wake-up instant: codel ends and zero-time
+//!   steps at the wake-up instant come first (a codel ending exactly at the
+//!   wake-up is in time);
 //! - an aperiodic thread runs rounds back to back, one codel per active
 //!   service per round;
 //! - a codel takes between 0 and its WCET (0 without one); a thread starts
@@ -29,11 +32,15 @@ use super::clocks::{ClockRole, Clocks, unit_ns, units};
 use crate::engine::explore::Model;
 use crate::engine::store::Subsumes;
 use crate::engine::system::{Action, Config, System, conflict};
-use crate::zones::dbm::Dbm;
+use crate::zones::dbm::{Dbm, lt};
 
 impl Subsumes for Dbm {
     fn subsumed_by(&self, other: &Dbm) -> bool {
         self.included_in(other)
+    }
+
+    fn heap_bytes(&self) -> usize {
+        self.heap_bytes()
     }
 }
 
@@ -214,6 +221,14 @@ impl<'a> TimedSystem<'a> {
     /// Number of clocks.
     pub fn clock_count(&self) -> usize {
         self.clocks.len()
+    }
+
+    /// The codel thread `k` runs, if any.
+    pub fn running_on(&self, st: &TState, k: usize) -> Option<CodelId> {
+        self.threads[k]
+            .members
+            .iter()
+            .find_map(|&i| self.running_codel(&st.cfg, i))
     }
 
     fn thread_busy(&self, st: &TState, k: usize) -> bool {
@@ -434,7 +449,7 @@ impl<'a> TimedSystem<'a> {
 
     /// Starts a new period of thread `k`, or records an overrun.
     fn wake(&self, st: &mut TState, k: usize) {
-        if st.eligible[k] != 0 || self.thread_busy(st, k) {
+        if self.unfinished(st, k) {
             st.violation = Some(Violation::Overrun(u16::try_from(k).unwrap_or(u16::MAX)));
             return;
         }
@@ -442,6 +457,81 @@ impl<'a> TimedSystem<'a> {
         if let Some(x) = self.threads[k].period_clock {
             st.zone.reset(x);
         }
+    }
+
+    /// Thread `k` still runs a codel or has services left to run in the
+    /// current period.
+    fn unfinished(&self, st: &TState, k: usize) -> bool {
+        st.eligible[k] != 0 || self.thread_busy(st, k)
+    }
+
+    /// The part of `zone` (at a wake-up of thread `k` with work left from
+    /// the previous period) where the overrun is genuine; `None` when that
+    /// work can all finish at the wake-up instant, which then comes after
+    /// it (codel ends and zero-time steps at an instant take priority over
+    /// a wake-up at the same instant). Genuine:
+    ///
+    /// - while the thread runs a codel: only where its execution clock is
+    ///   strictly below its WCET (at its WCET it ends first, and what is
+    ///   left is judged then, at the same instant);
+    /// - else, when a service still to run a codel has a positive WCET: the
+    ///   whole zone (it has not started, and may take time);
+    /// - else (codels without WCET): where one of them waits for a lock
+    ///   held by a running codel of another thread, or by the control
+    ///   codel, whose clock is strictly below its WCET (the first such part
+    ///   not empty: one witness is enough, the state is a terminal
+    ///   violation).
+    fn overrun_zone(&self, st: &TState, zone: &Dbm, k: usize) -> Option<Dbm> {
+        let t = &self.threads[k];
+        let below = |clock: usize, w: i64| {
+            let mut z = zone.clone();
+            z.constrain(clock, 0, lt(w)).then_some(z)
+        };
+        if let Some(c) = self.running_on(st, k) {
+            return below(t.exec_clock, self.wcet[c.0 as usize]);
+        }
+        let waiting: Vec<CodelId> = t
+            .members
+            .iter()
+            .enumerate()
+            .filter(|&(slot, _)| st.eligible[k] & (1 << slot) != 0)
+            .filter_map(|(_, &i)| self.sys.position(&st.cfg, i).codel())
+            .collect();
+        if waiting.iter().any(|c| self.wcet[c.0 as usize] > 0) {
+            return Some(zone.clone());
+        }
+        waiting
+            .iter()
+            .flat_map(|&c| self.lock_holders(st, k, self.sys.codel_uses(c)))
+            .find_map(|(clock, w)| below(clock, w))
+    }
+
+    /// The execution clocks and WCETs of the running codels of threads
+    /// other than `k`, and of the running control codel, that conflict
+    /// with `uses`.
+    fn lock_holders(
+        &self,
+        st: &TState,
+        k: usize,
+        uses: &[(genom_model::component::StructureId, bool)],
+    ) -> Vec<(usize, i64)> {
+        let mut out = Vec::new();
+        for (_, t2) in self.threads.iter().enumerate().filter(|&(k2, _)| k2 != k) {
+            let held = t2
+                .members
+                .iter()
+                .find_map(|&i| self.running_codel(&st.cfg, i))
+                .filter(|&c| conflict(uses, self.sys.codel_uses(c)));
+            if let Some(c) = held {
+                out.push((t2.exec_clock, self.wcet[c.0 as usize]));
+            }
+        }
+        if let Some(r) = st.ctl.map(usize::from) {
+            if conflict(uses, self.sys.control_uses(r)) {
+                out.push((self.ctl_clock, self.ctl_wcet[r].unwrap_or(0)));
+            }
+        }
+        out
     }
 
     fn fresh_round(&self, st: &TState, k: usize) -> u64 {
@@ -571,7 +661,7 @@ impl<'a> TimedSystem<'a> {
                 }
                 next.ctl = None;
                 if accept {
-                    next.cfg = self.sys.apply(&st.cfg, Action::Request(s), events)?;
+                    next.cfg = self.accept(&st.cfg, s, events)?;
                     self.bookkeep(&st.cfg, &mut next, Some(i), false);
                 } else {
                     if self.c.services[s].reports.is_empty() {
@@ -585,6 +675,9 @@ impl<'a> TimedSystem<'a> {
                 let (p, x) = (self.threads.get(k)?.period?, self.threads[k].period_clock?);
                 if !next.zone.lower(x, p) {
                     return None;
+                }
+                if self.unfinished(st, k) {
+                    next.zone = self.overrun_zone(st, &next.zone, k)?;
                 }
                 self.emit_wake(events, k);
                 self.wake(&mut next, k);
@@ -649,6 +742,32 @@ impl<'a> TimedSystem<'a> {
         let fired = self.fire(st, a, &mut None)?;
         let settled = self.settle_with(fired, self.extrapolate);
         (!settled.zone.is_empty()).then_some(settled)
+    }
+
+    /// The untimed request of `s`, handled when its control codel accepts
+    /// it; its events without the untimed `request` step (the request was
+    /// written when the control codel began: one `request` per request).
+    fn accept(
+        &self,
+        cfg: &Config,
+        s: ServiceId,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Option<Config> {
+        let Some(sink) = events.as_deref_mut() else {
+            return self.sys.apply(cfg, Action::Request(s), &mut None);
+        };
+        let mut steps = Vec::new();
+        let next = self
+            .sys
+            .apply(cfg, Action::Request(s), &mut Some(&mut steps))?;
+        if steps
+            .first()
+            .is_some_and(|x| x.event == genom_model::Event::Request)
+        {
+            steps.remove(0);
+        }
+        sink.extend(steps);
+        Some(next)
     }
 
     fn emit_control(&self, events: &mut Option<&mut Vec<TraceStep>>, s: ServiceId, begin: bool) {

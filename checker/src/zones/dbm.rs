@@ -65,6 +65,11 @@ pub struct Dbm {
 }
 
 impl Dbm {
+    /// Bytes of the bound matrix on the heap.
+    pub fn heap_bytes(&self) -> usize {
+        self.m.capacity() * size_of::<Bound>()
+    }
+
     /// The zone where every clock is 0.
     pub fn zero(clocks: usize) -> Dbm {
         let dim = clocks + 1;
@@ -303,11 +308,41 @@ impl Dbm {
     }
 
     /// Some valuation of the zone, as integers in units of `1/scale` of the
-    /// zone's unit, chosen clock by clock as low as possible. Scaling by
-    /// `2 * dim` leaves room for strict bounds. `None` when empty.
+    /// zone's unit, chosen clock by clock as low as possible: an integer
+    /// point (`scale` 1) whenever the zone has one, else a point on the
+    /// grid of `1/(2 * dim)`, which leaves room for strict bounds. `None`
+    /// when empty.
     pub fn pick(&self) -> Option<(Vec<i64>, i64)> {
+        if let Some(values) = self.pick_integer() {
+            return Some((values, 1));
+        }
         let scale = 2 * i64::try_from(self.dim).unwrap_or(i64::MAX / 4);
-        let mut z = self.scaled(scale);
+        self.scaled(scale).lowest().map(|v| (v, scale))
+    }
+
+    /// The lowest integer valuation of the zone (clock by clock), if it has
+    /// one: on integers `x - y < c` is `x - y ≤ c - 1`, and a canonical
+    /// zone whose bounds are all non-strict integers has integer vertices.
+    pub fn pick_integer(&self) -> Option<Vec<i64>> {
+        let m = self
+            .m
+            .iter()
+            .map(|&b| {
+                if b == INF || is_weak(b) {
+                    b
+                } else {
+                    le(constant(b).saturating_sub(1))
+                }
+            })
+            .collect();
+        Dbm { dim: self.dim, m }.lowest()
+    }
+
+    /// The valuation chosen clock by clock as low as possible, when every
+    /// bound is an integer one (the lowest value of a clock is then a
+    /// constant of the canonical zone, or one more for a strict bound).
+    fn lowest(&self) -> Option<Vec<i64>> {
+        let mut z = self.clone();
         if !z.canonicalize() {
             return None;
         }
@@ -325,7 +360,7 @@ impl Dbm {
             }
             out.push(v);
         }
-        Some((out, scale))
+        Some(out)
     }
 
     /// Whether a valuation (integers in units of `1/scale`) satisfies every

@@ -157,6 +157,7 @@ proptest! {
             Op::Up => true,
         }).collect();
         let (z, set) = run(clocks, &ops);
+        let integer = set.iter().any(|q| q.iter().all(|v| v % steps(clocks) == 0));
         let mut inside = boxed(&z, clocks);
         let nonempty = inside.canonicalize();
         prop_assert_eq!(nonempty, !set.is_empty(), "emptiness differs for {:?}\n{:?}", ops, z);
@@ -168,6 +169,10 @@ proptest! {
             // A picked point is in the zone.
             let (p, scale) = canon.pick().expect("non-empty zone has a point");
             prop_assert!(canon.contains(&p, scale), "picked {:?}/{} outside\n{:?}", p, scale, canon);
+            // An integer point whenever the zone (in the window) has one.
+            if integer {
+                prop_assert_eq!(scale, 1, "an integer point exists in\n{:?}", canon);
+            }
         }
     }
 
@@ -229,4 +234,29 @@ fn freeing_a_clock_forgets_its_relations() {
     assert_eq!(z.get(1, 2), le(5));
     assert_eq!(z.get(2, 1), INF);
     assert_eq!(z.get(0, 2), le(0));
+}
+
+#[test]
+fn a_strict_lower_bound_picks_the_next_integer() {
+    // x > 11999999 (a deadline passed), y = x: the lowest integer point is
+    // 12000000, not a fraction just above the deadline.
+    let mut z = Dbm::zero(2);
+    z.up();
+    assert!(z.constrain(0, 1, lt(-11_999_999)));
+    assert_eq!(z.pick(), Some((vec![12_000_000, 12_000_000], 1)));
+    assert_eq!(z.pick_integer(), Some(vec![12_000_000, 12_000_000]));
+}
+
+#[test]
+fn a_zone_without_integer_point_picks_a_fraction() {
+    // 0 < x < 1 and y = x: no integer point; a point of the finer grid.
+    let mut z = Dbm::zero(2);
+    z.up();
+    assert!(z.constrain(0, 1, lt(0)));
+    assert!(z.constrain(1, 0, lt(1)));
+    assert_eq!(z.pick_integer(), None);
+    let (p, scale) = z.pick().expect("not empty");
+    assert!(scale > 1);
+    assert!(z.contains(&p, scale));
+    assert!(p[0] > 0 && p[0] < scale, "{p:?}/{scale}");
 }
