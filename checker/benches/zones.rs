@@ -28,7 +28,6 @@ use genom_checker::engine::explore::{Limits, Model, explore};
 use genom_checker::engine::store::Subsumes;
 use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::timed::model::{TAction, TState, TimedSystem};
-use genom_checker::timed::timed_clusters;
 use genom_checker::zones::dbm::Dbm;
 use genom_checker::{CheckOptions, check_source};
 use genom_model::behaviour::Behaviour;
@@ -140,7 +139,7 @@ fn explore_all(c: &Component, variant: Variant) -> Figures {
         complete: true,
         ..Figures::default()
     };
-    for cluster in timed_clusters(c) {
+    for cluster in c.timed_clusters() {
         let linked = init.is_some_and(|i| cluster.contains(&i));
         let mut members = cluster.clone();
         if let Some(i) = init.filter(|_| !linked) {

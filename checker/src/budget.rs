@@ -64,9 +64,9 @@ use z3::ast::Int;
 use z3::{Optimize, SatResult};
 
 use crate::engine::explore::{Limits, explore};
+use crate::timed::analyse_timed;
 use crate::timed::clocks::gcd;
 use crate::timed::model::TimedSystem;
-use crate::timed::{analyse_timed, gives_timing, timed_clusters};
 
 /// Default cap of a codel budget: one hour, in nanoseconds.
 pub const DEFAULT_CAP_NS: u64 = 3_600_000_000_000;
@@ -394,7 +394,7 @@ pub fn verdict(c: &Component, limits: Limits) -> Verdict {
     let mut reached = BTreeSet::new();
     if !diagnostics.iter().any(|d| d.severity == Severity::Error) {
         explored = true;
-        let analysis = if gives_timing(c) {
+        let analysis = if c.gives_timing() {
             let (analysis, facts) = analyse_timed(c, limits);
             diagnostics.extend(crate::checks::timing(c, &facts));
             analysis
@@ -652,7 +652,7 @@ fn observe(c: &Component, limits: Limits) -> Observed {
     seen.explored = true;
     let b = Behaviour::new(c);
     let init = c.init_service();
-    for cluster in timed_clusters(c) {
+    for cluster in c.timed_clusters() {
         let linked = init.is_some_and(|i| cluster.contains(&i));
         let mut members = cluster.clone();
         if let Some(i) = init.filter(|_| !linked) {

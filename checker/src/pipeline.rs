@@ -131,7 +131,7 @@ pub fn check_source(
         .any(|d| d.severity == Severity::Error && d.code != Code::CodelOverrun);
     let mut statistics = None;
     if let (Some(c), true, true) = (&component, clean, options.behaviour) {
-        let analysis = if crate::timed::gives_timing(c) {
+        let analysis = if c.gives_timing() {
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);

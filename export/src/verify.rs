@@ -98,10 +98,10 @@ pub fn proven(c: &Component, diagnostics: &[Diagnostic]) -> Vec<String> {
             out.push(property.to_owned());
         }
     }
-    if !gives_timing(c) {
+    if !c.gives_timing() {
         return out;
     }
-    let clusters = clusters(c);
+    let clusters = c.timed_cluster_roots();
     let timed = |members: &dyn Fn(ServiceId) -> bool| {
         let cluster: BTreeSet<usize> = c
             .services
@@ -129,45 +129,6 @@ pub fn proven(c: &Component, diagnostics: &[Diagnostic]) -> Vec<String> {
         }
     }
     out
-}
-
-/// Whether the timed engine runs on this component (some WCET or service
-/// max-time), as the checker decides.
-fn gives_timing(c: &Component) -> bool {
-    c.codels.values().any(|k| k.wcet.is_some()) || c.services.values().any(|s| s.max_time.is_some())
-}
-
-/// For each service (by index), the smallest index of its timed cluster.
-fn clusters(c: &Component) -> Vec<usize> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    let find = |parent: &[usize], mut x: usize| {
-        while parent[x] != x {
-            x = parent[x];
-        }
-        x
-    };
-    let mut union = |a: usize, b: usize| {
-        let (ra, rb) = (find(&parent, a), find(&parent, b));
-        parent[ra.max(rb)] = ra.min(rb);
-    };
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            union(s.0 as usize, r.id.0 as usize);
-        }
-        for (t, other) in c.services.iter().filter(|&(t, _)| t > s) {
-            let thread = svc.thread.map(|r| r.id);
-            let shared = thread.is_some() && thread == other.thread.map(|r| r.id);
-            let conflict = svc
-                .codels
-                .iter()
-                .any(|&a| other.codels.iter().any(|&b| c.conflicts(a, b)));
-            if shared || conflict {
-                union(s.0 as usize, t.0 as usize);
-            }
-        }
-    }
-    (0..n).map(|i| find(&parent, i)).collect()
 }
 
 /// A property's kind, subject (a thread or service name) and a sentence

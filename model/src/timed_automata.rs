@@ -51,7 +51,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use crate::behaviour::{Behaviour, Effect, Ending, IDLE, PosId, Position, ServiceMachine};
-use crate::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
+use crate::component::{
+    CodelId, Component, ServiceId, StructureId, ThreadId, uses_conflict as conflict,
+};
 use crate::define_id;
 use crate::kinds::ServiceKind;
 use crate::span::Span;
@@ -876,57 +878,20 @@ fn units(ns: u64, unit: u64) -> i64 {
     i64::try_from(ns / unit.max(1)).unwrap_or(i64::MAX / 4)
 }
 
-fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
-    a.iter()
-        .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
-}
-
-/// The engine's timed clusters (`timed::analysis::timed_clusters`): the
-/// services each one is explored with (its own, plus the init service).
+/// For each service (by index), the services its timed cluster
+/// (`Component::timed_clusters`) is explored with: the cluster, plus the
+/// init service.
 fn cluster_of(c: &Component) -> Vec<Vec<ServiceId>> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(parent: &[usize], x: usize) -> usize {
-        let mut r = x;
-        while parent[r] != r {
-            r = parent[r];
-        }
-        r
-    }
-    let mut union = |a: usize, b: usize| {
-        let (ra, rb) = (find(&parent, a), find(&parent, b));
-        parent[ra.max(rb)] = ra.min(rb);
-    };
-    let uses: Vec<Vec<(StructureId, bool)>> = c
-        .services
-        .values()
-        .map(|s| {
-            s.codels
-                .iter()
-                .flat_map(|&k| c.codels[k].structures())
-                .collect()
-        })
-        .collect();
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            union(s.0 as usize, r.id.0 as usize);
-        }
-        for (t, other) in c.services.iter().filter(|&(t, _)| t > s) {
-            let same_thread =
-                svc.thread.is_some() && svc.thread.map(|r| r.id) == other.thread.map(|r| r.id);
-            if same_thread || conflict(&uses[s.0 as usize], &uses[t.0 as usize]) {
-                union(s.0 as usize, t.0 as usize);
-            }
-        }
-    }
+    let root = c.timed_cluster_roots();
+    let clusters = c.timed_clusters();
     let init = c.init_service();
-    (0..n)
-        .map(|i| {
-            let root = find(&parent, i);
-            let mut members: Vec<ServiceId> = (0..n)
-                .filter(|&j| find(&parent, j) == root)
-                .map(|j| ServiceId(u32::try_from(j).unwrap_or(u32::MAX)))
-                .collect();
+    root.iter()
+        .map(|&r| {
+            let mut members = clusters
+                .iter()
+                .find(|m| m.first().is_some_and(|s| s.0 as usize == r))
+                .cloned()
+                .unwrap_or_default();
             if let Some(s) = init.filter(|s| !members.contains(s)) {
                 members.push(s);
                 members.sort();

@@ -677,10 +677,7 @@ impl<'a> System<'a> {
 }
 
 /// Whether two uses conflict: a shared structure written by one of them.
-pub fn conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bool {
-    a.iter()
-        .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
-}
+pub use genom_model::component::uses_conflict as conflict;
 
 /// For each member (in order), the other members whose `delays`, and
 /// those whose `forbids`, name it: ascending, without repetition. One pass

@@ -19,7 +19,7 @@ use super::trace::{Target, exceeded_zone, timed_lasso, timed_trace};
 use crate::engine::analysis::{Analysis, Found, Witnesses, collect, finish_dead, visit};
 use crate::engine::explore::{Limits, explore};
 use crate::engine::store::StateId;
-use crate::engine::system::{System, conflict};
+use crate::engine::system::System;
 use crate::zones::dbm::lt;
 
 /// A thread overrun with its timed trace.
@@ -86,7 +86,7 @@ pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
     let mut facts = TimedFacts::default();
     let mut budget = limits;
     let init = c.init_service();
-    for cluster in timed_clusters(c) {
+    for cluster in c.timed_clusters() {
         let linked = init.is_some_and(|i| cluster.contains(&i));
         let mut members = cluster.clone();
         if let Some(i) = init.filter(|_| !linked) {
@@ -276,56 +276,4 @@ fn ends_in_time(ts: &TimedSystem<'_>, st: &TState, i: usize) -> bool {
             .outcomes()
             .iter()
             .any(|o| matches!(o, Outcome::End | Outcome::Report(_)))
-}
-
-/// The timed clusters, each sorted, in order of their first service.
-pub fn timed_clusters(c: &Component) -> Vec<Vec<ServiceId>> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    let find = |parent: &mut Vec<usize>, x: usize| {
-        let mut r = x;
-        while parent[r] != r {
-            r = parent[r];
-        }
-        r
-    };
-    let union = |parent: &mut Vec<usize>, a: usize, b: usize| {
-        let (ra, rb) = (find(parent, a), find(parent, b));
-        parent[ra.max(rb)] = ra.min(rb);
-    };
-    let uses: Vec<Vec<(genom_model::component::StructureId, bool)>> = c
-        .services
-        .values()
-        .map(|s| {
-            s.codels
-                .iter()
-                .flat_map(|&k| c.codels[k].structures())
-                .collect()
-        })
-        .collect();
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            union(&mut parent, s.0 as usize, r.id.0 as usize);
-        }
-        for (t, other) in c.services.iter().filter(|&(t, _)| t > s) {
-            let same_thread =
-                svc.thread.is_some() && svc.thread.map(|r| r.id) == other.thread.map(|r| r.id);
-            if same_thread || conflict(&uses[s.0 as usize], &uses[t.0 as usize]) {
-                union(&mut parent, s.0 as usize, t.0 as usize);
-            }
-        }
-    }
-    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
-    for s in c.services.ids() {
-        groups
-            .entry(find(&mut parent, s.0 as usize))
-            .or_default()
-            .push(s);
-    }
-    groups.into_values().collect()
-}
-
-/// Whether the component gives timing: some codel WCET or service max-time.
-pub fn gives_timing(c: &Component) -> bool {
-    c.codels.values().any(|k| k.wcet.is_some()) || c.services.values().any(|s| s.max_time.is_some())
 }

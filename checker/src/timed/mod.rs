@@ -8,6 +8,4 @@ pub mod clocks;
 pub mod model;
 pub mod trace;
 
-pub use analysis::{
-    CodelOverrun, Exceeded, Overrun, TimedFacts, analyse_timed, gives_timing, timed_clusters,
-};
+pub use analysis::{CodelOverrun, Exceeded, Overrun, TimedFacts, analyse_timed};

@@ -9,11 +9,13 @@
 //! without checking for errors again.
 
 pub mod idx;
+mod timing;
 pub mod types;
 
 use serde::Serialize;
 
 pub use idx::{IdVec, Idx};
+pub use timing::uses_conflict;
 pub use types::{Field, Ty, TypeDef, TypeKind, Value};
 
 use crate::define_id;
@@ -431,9 +433,6 @@ impl Component {
     /// Whether two codels conflict on some structure: both use it and at
     /// least one may write it (LANGUAGE.md section 3).
     pub fn conflicts(&self, a: CodelId, b: CodelId) -> bool {
-        let sa = self.codels[a].structures();
-        let sb = self.codels[b].structures();
-        sa.iter()
-            .any(|&(s, wa)| sb.iter().any(|&(t, wb)| s == t && (wa || wb)))
+        uses_conflict(&self.codels[a].structures(), &self.codels[b].structures())
     }
 }
