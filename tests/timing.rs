@@ -40,28 +40,6 @@ const TIMING: &[Code] = &[
     Code::MissingWcet,
 ];
 
-fn invalid(name: &str) -> PathBuf {
-    common::root().join("tests/fixtures/invalid").join(name)
-}
-
-fn valid(name: &str) -> PathBuf {
-    common::root().join("tests/fixtures/valid").join(name)
-}
-
-fn component(result: &CheckResult) -> &Component {
-    result
-        .component
-        .as_ref()
-        .expect("the fixture resolves to a component")
-}
-
-/// 1-based line of a diagnostic's primary label.
-fn primary_line(result: &CheckResult, d: &Diagnostic) -> usize {
-    let located = result.sources.locate(d.span()).expect("span is in a file");
-    let file = result.sources.file(located.file).expect("file exists");
-    file.line_col(located.offset).0
-}
-
 /// One step as `@TIME event service::codel -> outcome` (the violation
 /// without its instant, which is any point after the deadline).
 fn step_line(s: &TraceStep) -> String {
@@ -122,18 +100,18 @@ struct Expected<'a> {
 /// the claim; then replays the raw trace (wake-ups and all) in the untimed
 /// semantics.
 fn verify(e: &Expected<'_>) -> (CheckResult, Trace) {
-    let path = invalid(e.fixture);
+    let path = common::invalid(e.fixture);
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(&result, e.code, e.message, &report);
     assert_eq!(
-        primary_line(&result, d),
+        common::primary_line(&result, d),
         e.line,
         "{}: primary line\n{report}",
         e.fixture
     );
     let trace = d.trace.clone().expect("a timed verdict has a trace");
-    let c = component(&result);
+    let c = common::component(&result);
     let checked = check_timed(c, &trace, e.claim);
     assert_eq!(
         trace_lines(&trace),
@@ -182,8 +160,8 @@ fn verify(e: &Expected<'_>) -> (CheckResult, Trace) {
 /// `bad` reports `code`; `good`, one line away from it (or one line
 /// added), has no error or warning at all.
 fn assert_twins(bad: &str, good: &str, code: Code) {
-    let (bad_path, good_path) = (invalid(bad), valid(good));
-    let changed = changed_lines(&body(&bad_path), &body(&good_path));
+    let (bad_path, good_path) = (common::invalid(bad), common::valid(good));
+    let changed = common::changed_lines(&common::body(&bad_path), &common::body(&good_path));
     assert!(
         changed <= 2,
         "{bad} and {good} differ by {changed} lines: one rule should change"
@@ -210,28 +188,6 @@ fn assert_twins(bad: &str, good: &str, code: Code) {
             "{good} is fully explored"
         );
     }
-}
-
-/// The description without its header comment, line by line.
-fn body(path: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(path).expect("fixture is readable");
-    let rest = text.split_once("*/").map_or(text.as_str(), |(_, r)| r);
-    rest.lines().map(str::to_owned).collect()
-}
-
-/// Lines of `a` not in `b` plus lines of `b` not in `a` (as multisets).
-fn changed_lines(a: &[String], b: &[String]) -> usize {
-    let mut rest: Vec<&String> = b.iter().collect();
-    let mut only_a = 0;
-    for line in a {
-        match rest.iter().position(|l| *l == line) {
-            Some(k) => {
-                rest.remove(k);
-            }
-            None => only_a += 1,
-        }
-    }
-    only_a + rest.len()
 }
 
 /// The fixture pairs of this file: (invalid, valid twin, code).
@@ -309,7 +265,7 @@ fn every_timing_code_has_a_fixture_pair() {
 
 #[test]
 fn codel_overrun_wcet_longer_than_the_period() {
-    let path = invalid("codel-overrun.wcet-longer-than-period.gen");
+    let path = common::invalid("codel-overrun.wcet-longer-than-period.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(
@@ -318,7 +274,7 @@ fn codel_overrun_wcet_longer_than_the_period() {
         "codel `Servo::step` may take 12ms but thread `servoTask` wakes up every 10ms",
         &report,
     );
-    assert_eq!(primary_line(&result, d), 16, "{report}");
+    assert_eq!(common::primary_line(&result, d), 16, "{report}");
     assert_eq!(d.severity, Severity::Error);
 }
 
@@ -435,7 +391,7 @@ fn max_time_infeasible_three_codels_in_fifteen_milliseconds() {
     });
     // By hand: the shortest path start → b → c → end runs one codel per
     // period, so it ends at best two periods after the acknowledgment.
-    let c = component(&result);
+    let c = common::component(&result);
     let s = c.service_named("Move").expect("Move");
     let best = (shortest_path(c, s) - 1) * 10_000_000;
     assert_eq!(best, 20_000_000);
@@ -495,7 +451,7 @@ fn max_time_exceeded_on_the_worked_example() {
 
 #[test]
 fn max_time_watchdog_on_a_servo_loop() {
-    let path = invalid("max-time-watchdog.servo-loop.gen");
+    let path = common::invalid("max-time-watchdog.servo-loop.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(
@@ -504,9 +460,9 @@ fn max_time_watchdog_on_a_servo_loop() {
         "`Goto` loops without bound: its max-time is enforced only by the watchdog; worst stop latency at most 20ms",
         &report,
     );
-    assert_eq!(primary_line(&result, d), 13, "{report}");
+    assert_eq!(common::primary_line(&result, d), 13, "{report}");
     assert_eq!(d.severity, Severity::Advice);
-    let c = component(&result);
+    let c = common::component(&result);
     let s = c.service_named("Goto").expect("Goto");
     assert!(loops_without_bound(c, s));
     // By hand: interrupted while `approach` runs, the service ends its
@@ -528,7 +484,7 @@ fn max_time_watchdog_on_a_servo_loop() {
 
 #[test]
 fn missing_wcet_names_the_codel_and_what_is_left_unproven() {
-    let path = invalid("missing-wcet.codel-without-wcet.gen");
+    let path = common::invalid("missing-wcet.codel-without-wcet.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(
@@ -537,7 +493,7 @@ fn missing_wcet_names_the_codel_and_what_is_left_unproven() {
         "1 codel without WCET (`max-time`) are taken as running in no time",
         &report,
     );
-    assert_eq!(primary_line(&result, d), 14, "{report}");
+    assert_eq!(common::primary_line(&result, d), 14, "{report}");
     assert_eq!(d.severity, Severity::Advice);
     assert_eq!(
         d.help.as_deref(),
@@ -561,7 +517,7 @@ fn untimed_verdicts(c: &Component) -> Vec<Diagnostic> {
 /// verdict is a claim about every execution, so it has no trace.
 #[test]
 fn unreachable_codel_because_the_watchdog_never_fires() {
-    let path = invalid("unreachable-codel.watchdog-never-fires.gen");
+    let path = common::invalid("unreachable-codel.watchdog-never-fires.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(
@@ -570,9 +526,9 @@ fn unreachable_codel_because_the_watchdog_never_fires() {
         "inter codel `abort` of service `Scan` is never reached in any execution",
         &report,
     );
-    assert_eq!(primary_line(&result, d), 19, "{report}");
+    assert_eq!(common::primary_line(&result, d), 19, "{report}");
     assert!(d.trace.is_none());
-    let untimed = untimed_verdicts(component(&result));
+    let untimed = untimed_verdicts(common::component(&result));
     assert!(
         !untimed.iter().any(|d| d.code == Code::UnreachableCodel),
         "without time the watchdog may fire, and `abort` runs: {untimed:?}"
@@ -583,7 +539,7 @@ fn unreachable_codel_because_the_watchdog_never_fires() {
 /// trace); the untimed engine lets the init service succeed.
 #[test]
 fn dead_service_behind_an_init_service_that_always_times_out() {
-    let path = invalid("dead-service.init-always-times-out.gen");
+    let path = common::invalid("dead-service.init-always-times-out.gen");
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let d = the(
@@ -592,7 +548,7 @@ fn dead_service_behind_an_init_service_that_always_times_out() {
         "service `Move` can never start",
         &report,
     );
-    assert_eq!(primary_line(&result, d), 22, "{report}");
+    assert_eq!(common::primary_line(&result, d), 22, "{report}");
     assert_eq!(
         d.help.as_deref(),
         Some("NOT_INITIALIZED, because `Calibrate` can never complete successfully")
@@ -611,7 +567,7 @@ fn dead_service_behind_an_init_service_that_always_times_out() {
             "violation",
         ]
     );
-    let c = component(&result);
+    let c = common::component(&result);
     check_timed(c, trace, TimedClaim::Rules).expect("the timed trace is a timed execution");
     replay_claim(c, trace, Claim::DeadService("Move")).expect("the trace replays");
     the(
@@ -636,7 +592,7 @@ fn dead_service_behind_an_init_service_that_always_times_out() {
 fn every_timed_trace_is_a_timed_execution_and_replays() {
     let mut files: Vec<PathBuf> = TWINS
         .iter()
-        .flat_map(|&(bad, good, _)| [invalid(bad), valid(good)])
+        .flat_map(|&(bad, good, _)| [common::invalid(bad), common::valid(good)])
         .collect();
     files.extend(spec_files());
     let mut checked = 0;
@@ -674,9 +630,9 @@ fn every_timed_trace_is_a_timed_execution_and_replays() {
 /// The independent checker rejects traces whose timing is wrong.
 #[test]
 fn the_timing_checker_rejects_corrupted_timings() {
-    let path = invalid("thread-overrun.two-services-share-a-period.gen");
+    let path = common::invalid("thread-overrun.two-services-share-a-period.gen");
     let result = common::check(&path);
-    let c = component(&result);
+    let c = common::component(&result);
     let d = result
         .diagnostics
         .iter()
@@ -798,7 +754,7 @@ fn timing_codes(result: &CheckResult) -> Vec<Code> {
 
 /// The time unit of the timed model of the whole component.
 fn unit_of(result: &CheckResult) -> u64 {
-    let c = component(result);
+    let c = common::component(result);
     let all: Vec<ServiceId> = c.services.ids().collect();
     genom_checker::timed::clocks::unit_ns(c, &all)
 }
@@ -835,9 +791,13 @@ fn margins_are_exact_on_the_worked_example() {
         if exceeded {
             let d = &result.diagnostics[0];
             let trace = d.trace.as_ref().expect("a trace");
-            let end = check_timed(component(&result), trace, TimedClaim::LateService("Step"))
-                .expect("a timed execution");
-            let m = component(&result).services[ServiceId(0)]
+            let end = check_timed(
+                common::component(&result),
+                trace,
+                TimedClaim::LateService("Step"),
+            )
+            .expect("a timed execution");
+            let m = common::component(&result).services[ServiceId(0)]
                 .max_time
                 .expect("a max-time")
                 .ns;
@@ -1055,8 +1015,12 @@ fn a_codel_ending_exactly_at_the_next_wake_up_is_not_an_overrun() {
     assert_eq!(timing_codes(&longer), [Code::CodelOverrun], "{report}");
     let d = &longer.diagnostics[0];
     let trace = d.trace.as_ref().expect("a trace");
-    let end = check_timed(component(&longer), trace, TimedClaim::Overrun("servoTask"))
-        .unwrap_or_else(|e| panic!("{e}\n{report}"));
+    let end = check_timed(
+        common::component(&longer),
+        trace,
+        TimedClaim::Overrun("servoTask"),
+    )
+    .unwrap_or_else(|e| panic!("{e}\n{report}"));
     assert_eq!(end.last_ns % 10_000_000, 0, "ends at a wake-up");
 }
 
@@ -1092,7 +1056,7 @@ fn exact_overrun(what: &str, src: &str, exact_ns: u64, thread: &str, base: &[Cod
         .find(|d| d.code == Code::ThreadOverrun)
         .expect("thread-overrun");
     let trace = d.trace.as_ref().expect("a trace");
-    let c = component(&result);
+    let c = common::component(&result);
     check_timed(c, trace, TimedClaim::Overrun(thread))
         .unwrap_or_else(|e| panic!("{what}: {e}\n{report}"));
     replay(c, trace).unwrap_or_else(|e| panic!("{what}: replay: {e}\n{report}"));
@@ -1170,7 +1134,7 @@ fn a_full_period_codel_before_another_service_overruns() {
     let report = common::render(Path::new("inline.gen"), &result);
     assert_eq!(timing_codes(&result), [Code::ThreadOverrun], "{report}");
     let trace = result.diagnostics[0].trace.as_ref().expect("a trace");
-    let c = component(&result);
+    let c = common::component(&result);
     // The claim: at the wake-up, a codel still running has time left
     // before its WCET, or a codel still to run has a positive WCET; never a
     // codel running with its whole WCET used (that one ends first).
@@ -1206,7 +1170,7 @@ fn codel_overrun_carries_a_timed_trace() {
         ],
     });
     // The thread overrun it implies is not reported a second time.
-    let path = invalid("codel-overrun.wcet-longer-than-period.gen");
+    let path = common::invalid("codel-overrun.wcet-longer-than-period.gen");
     let result = common::check(&path);
     assert_eq!(
         timing_codes(&result),
@@ -1222,7 +1186,7 @@ fn codel_overrun_carries_a_timed_trace() {
 /// the other threads' steps inside the open request.
 #[test]
 fn a_request_with_a_control_codel_is_one_request_step() {
-    let path = invalid("thread-overrun.control-codel-holds-the-lock.gen");
+    let path = common::invalid("thread-overrun.control-codel-holds-the-lock.gen");
     let result = common::check(&path);
     let d = result
         .diagnostics
@@ -1237,7 +1201,7 @@ fn a_request_with_a_control_codel_is_one_request_step() {
         .collect();
     assert_eq!(requests.len(), 1, "{:?}", trace_lines(trace));
     assert_eq!(requests[0].codel.as_deref(), Some("control"));
-    let replayed = replay(component(&result), trace).map(|_| ());
+    let replayed = replay(common::component(&result), trace).map(|_| ());
     assert!(
         replayed.is_ok(),
         "raw replay: {replayed:?}\n    {}",
@@ -1245,7 +1209,7 @@ fn a_request_with_a_control_codel_is_one_request_step() {
     );
     // The replay still refuses a codel that conflicts with the running
     // control codel, and a second request while it runs.
-    let c = component(&result);
+    let c = common::component(&result);
     let lines = trace_lines(trace);
     let at = |l: &str| lines.iter().position(|x| x == l).expect("the step");
     let mut early = trace.clone();
@@ -1279,8 +1243,12 @@ fn the_late_instant_is_after_the_deadline_with_a_nanosecond_unit() {
         .find(|d| d.code == Code::MaxTimeExceeded)
         .expect("max-time-exceeded");
     let trace = d.trace.as_ref().expect("a trace");
-    let end = check_timed(component(&result), trace, TimedClaim::LateService("Step"))
-        .unwrap_or_else(|e| panic!("{e}\n    {}", trace_lines(trace).join("\n    ")));
+    let end = check_timed(
+        common::component(&result),
+        trace,
+        TimedClaim::LateService("Step"),
+    )
+    .unwrap_or_else(|e| panic!("{e}\n    {}", trace_lines(trace).join("\n    ")));
     assert_eq!(end.late_ack_ns, Some(0));
     assert_eq!(
         end.last_ns, 12_000_000,

@@ -30,14 +30,6 @@ const BEHAVIOURAL: &[Code] = &[
     Code::UnboundedInterrupt,
 ];
 
-fn invalid(name: &str) -> PathBuf {
-    common::root().join("tests/fixtures/invalid").join(name)
-}
-
-fn valid(name: &str) -> PathBuf {
-    common::root().join("tests/fixtures/valid").join(name)
-}
-
 /// The `.gen` files of a directory (relative to the workspace root), sorted.
 fn gen_files(dir: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(common::root().join(dir))
@@ -47,20 +39,6 @@ fn gen_files(dir: &str) -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
-}
-
-fn component(result: &CheckResult) -> &Component {
-    result
-        .component
-        .as_ref()
-        .expect("the fixture resolves to a component")
-}
-
-/// 1-based line of a diagnostic's primary label.
-fn primary_line(result: &CheckResult, d: &Diagnostic) -> usize {
-    let located = result.sources.locate(d.span()).expect("span is in a file");
-    let file = result.sources.file(located.file).expect("file exists");
-    file.line_col(located.offset).0
 }
 
 /// One trace step as `event service::codel -> outcome` (absent parts left
@@ -119,7 +97,7 @@ struct Expected<'a> {
 /// Checks the verdict's code, message, primary line, help and trace, then
 /// replays the trace and checks the claim.
 fn verify(e: &Expected<'_>) {
-    let path = invalid(e.fixture);
+    let path = common::invalid(e.fixture);
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let found: Vec<&Diagnostic> = result
@@ -137,7 +115,7 @@ fn verify(e: &Expected<'_>) {
     );
     let d = found[0];
     assert_eq!(
-        primary_line(&result, d),
+        common::primary_line(&result, d),
         e.line,
         "{}: primary line\n{report}",
         e.fixture
@@ -146,7 +124,7 @@ fn verify(e: &Expected<'_>) {
         assert_eq!(d.help.as_deref(), Some(help), "{}: help", e.fixture);
     }
     let trace = d.trace.as_ref().expect("a behavioural verdict has a trace");
-    let c = component(&result);
+    let c = common::component(&result);
     let replayed = replay_claim(c, trace, e.claim)
         .map(|_| ())
         .map_err(|err| err.to_string());
@@ -566,7 +544,7 @@ fn unbounded_interrupt_after_the_watchdog() {
 /// `unreachable-codel` for a codel the codel graph reaches (so the static
 /// part is silent) but no execution runs; it carries no trace.
 fn assert_never_reached(fixture: &str, service: &str, codel: &str, line: usize) {
-    let path = invalid(fixture);
+    let path = common::invalid(fixture);
     let result = common::check(&path);
     let report = common::render(&path, &result);
     let found: Vec<&Diagnostic> = result
@@ -579,7 +557,7 @@ fn assert_never_reached(fixture: &str, service: &str, codel: &str, line: usize) 
         found[0].message,
         format!("inter codel `{codel}` of service `{service}` is never reached in any execution")
     );
-    assert_eq!(primary_line(&result, found[0]), line, "{report}");
+    assert_eq!(common::primary_line(&result, found[0]), line, "{report}");
     assert!(found[0].trace.is_none());
     let statically = genom_checker::check_file(
         &common::relative(&path),
@@ -618,7 +596,7 @@ fn unreachable_inter_codel_whose_interrupter_is_locked_out() {
 
 #[test]
 fn unreachable_cleanup_of_an_auto_service_nothing_stops() {
-    let path = invalid("dead-service.delayed-by-auto.gen");
+    let path = common::invalid("dead-service.delayed-by-auto.gen");
     let result = common::check(&path);
     let d: Vec<&Diagnostic> = result
         .diagnostics
@@ -630,7 +608,7 @@ fn unreachable_cleanup_of_an_auto_service_nothing_stops() {
         d[0].message,
         "inter codel `close` of service `Heartbeat` is never reached in any execution"
     );
-    assert_eq!(primary_line(&result, d[0]), 21);
+    assert_eq!(common::primary_line(&result, d[0]), 21);
 }
 
 // ------------------------------------------------------------------- twins
@@ -705,33 +683,11 @@ const TWINS: &[(&str, &str, &[Code])] = &[
     ),
 ];
 
-/// The description without its header comment, line by line.
-fn body(path: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(path).expect("fixture is readable");
-    let rest = text.split_once("*/").map_or(text.as_str(), |(_, r)| r);
-    rest.lines().map(str::to_owned).collect()
-}
-
-/// Lines of `a` not in `b` plus lines of `b` not in `a` (as multisets).
-fn changed_lines(a: &[String], b: &[String]) -> usize {
-    let mut rest: Vec<&String> = b.iter().collect();
-    let mut only_a = 0;
-    for line in a {
-        match rest.iter().position(|l| *l == line) {
-            Some(k) => {
-                rest.remove(k);
-            }
-            None => only_a += 1,
-        }
-    }
-    only_a + rest.len()
-}
-
 #[test]
 fn each_invalid_fixture_has_a_near_identical_twin_without_the_verdict() {
     for &(bad, good, codes) in TWINS {
-        let (bad_path, good_path) = (invalid(bad), valid(good));
-        let changed = changed_lines(&body(&bad_path), &body(&good_path));
+        let (bad_path, good_path) = (common::invalid(bad), common::valid(good));
+        let changed = common::changed_lines(&common::body(&bad_path), &common::body(&good_path));
         assert!(
             changed <= 2,
             "{bad} and {good} differ by {changed} lines: one rule should change"
@@ -834,7 +790,7 @@ fn every_verdict_trace_replays_against_the_semantics() {
 
 /// A fixture's verdict trace and the component.
 fn trace_of(fixture: &str, code: Code) -> (CheckResult, Trace) {
-    let result = common::check(&invalid(fixture));
+    let result = common::check(&common::invalid(fixture));
     let trace = result
         .diagnostics
         .iter()
@@ -869,8 +825,8 @@ const PARK: Claim<'static> = Claim::Starvation {
 #[test]
 fn the_replay_accepts_the_original_trace() {
     let (result, t) = trace_of("starvation.behind-endless-loop.gen", Code::Starvation);
-    let end = replay_claim(component(&result), &t, PARK).expect("the trace replays");
-    let c = component(&result);
+    let end = replay_claim(common::component(&result), &t, PARK).expect("the trace replays");
+    let c = common::component(&result);
     let park = c.service_named("Park").expect("service exists");
     assert!(end.state.pending(park).is_some());
     assert_eq!(end.loop_states.len(), 3, "two loop steps: three states");
@@ -880,7 +836,7 @@ fn the_replay_accepts_the_original_trace() {
 #[test]
 fn a_corrupted_trace_with_a_step_removed_is_rejected() {
     let (result, mut t) = trace_of("starvation.behind-endless-loop.gen", Code::Starvation);
-    let c = component(&result);
+    let c = common::component(&result);
     // Without `start Track::start`, Track never becomes active: its codel
     // cannot run.
     let k = index_of(&t, "start Track::start");
@@ -898,7 +854,7 @@ fn a_corrupted_trace_with_a_step_removed_is_rejected() {
 #[test]
 fn a_corrupted_trace_with_an_outcome_changed_is_rejected() {
     let (result, mut t) = trace_of("starvation.behind-endless-loop.gen", Code::Starvation);
-    let c = component(&result);
+    let c = common::component(&result);
     let k = index_of(&t, "codel-end Track::start -> follow");
     t.steps[k].outcome = Some("park".to_owned());
     let e = rejected(c, &t, PARK);
@@ -912,7 +868,7 @@ fn a_corrupted_trace_with_an_outcome_changed_is_rejected() {
 #[test]
 fn a_corrupted_loop_that_does_not_come_back_is_rejected() {
     let (result, mut t) = trace_of("starvation.behind-endless-loop.gen", Code::Starvation);
-    let c = component(&result);
+    let c = common::component(&result);
     // The loop now ends in the middle of `follow`: it is not a cycle.
     let last = t.steps.len() - 1;
     t.steps.remove(last - 1);
@@ -938,7 +894,7 @@ fn a_corrupted_loop_that_does_not_come_back_is_rejected() {
 #[test]
 fn a_starvation_claim_about_the_wrong_services_is_rejected() {
     let (result, t) = trace_of("starvation.behind-endless-loop.gen", Code::Starvation);
-    let c = component(&result);
+    let c = common::component(&result);
     let e = rejected(
         c,
         &t,
@@ -959,7 +915,7 @@ fn a_starvation_claim_about_the_wrong_services_is_rejected() {
 #[test]
 fn a_corrupted_deadlock_trace_is_rejected() {
     let (result, t) = trace_of("deadlock.circular-delays.gen", Code::Deadlock);
-    let c = component(&result);
+    let c = common::component(&result);
     let claim = Claim::Deadlock(&["Grasp", "Release"]);
     // Without `Calibrate`, `Grasp` is not delayed: it must start at once.
     let mut cut = t.clone();
@@ -999,7 +955,7 @@ fn corrupted_interrupts_and_replies_are_rejected() {
         "unbounded-interrupt.looping-inter-codel.gen",
         Code::UnboundedInterrupt,
     );
-    let c = component(&result);
+    let c = common::component(&result);
     let claim = Claim::UnboundedInterrupt("Move");
     // The acknowledgment without the interrupt of step 5.
     let mut missing = t.clone();
@@ -1051,7 +1007,7 @@ fn corrupted_interrupts_and_replies_are_rejected() {
 #[test]
 fn corrupted_rejections_are_rejected() {
     let (result, mut t) = trace_of("dead-service.forbidden-by-auto.gen", Code::DeadService);
-    let c = component(&result);
+    let c = common::component(&result);
     let k = t
         .steps
         .iter()
@@ -1078,7 +1034,7 @@ fn corrupted_rejections_are_rejected() {
 #[test]
 fn a_trace_must_start_with_the_component_and_end_with_the_violation() {
     let (result, t) = trace_of("deadlock.circular-delays.gen", Code::Deadlock);
-    let c = component(&result);
+    let c = common::component(&result);
     let mut headless = t.clone();
     headless.steps.remove(0);
     assert_eq!(
@@ -1103,8 +1059,8 @@ fn the_explorer_replies_timeout_after_a_watchdog_and_cleanup_codels() {
     use genom_checker::engine::system::{Action, System};
     use genom_model::behaviour::Behaviour;
 
-    let result = common::check(&valid("watchdog-cleanup-ends.gen"));
-    let c = component(&result);
+    let result = common::check(&common::valid("watchdog-cleanup-ends.gen"));
+    let c = common::component(&result);
     let home = c.service_named("Home").expect("service exists");
     let b = Behaviour::new(c);
     let all: Vec<_> = c.services.ids().collect();
@@ -1173,7 +1129,7 @@ fn check_inline(src: &str) -> CheckResult {
 /// replay thinks of its trace.
 fn assert_no_starvation(src: &str) {
     let result = check_inline(src);
-    let c = component(&result);
+    let c = common::component(&result);
     let wrong: Vec<String> = result
         .diagnostics
         .iter()
@@ -1341,7 +1297,7 @@ fn a_state_limit_gives_incomplete_and_no_negative_claim() {
         ),
         ("dead-service.delayed-by-auto.gen", "`Heartbeat`, `Update`"),
     ] {
-        let path = invalid(fixture);
+        let path = common::invalid(fixture);
         let result = genom_checker::check_file(
             &common::relative(&path),
             &FsLoader,
@@ -1381,7 +1337,7 @@ fn a_state_limit_gives_incomplete_and_no_negative_claim() {
         for d in result.diagnostics.iter().filter(|d| d.trace.is_some()) {
             let names = quoted(&d.message);
             let trace = d.trace.as_ref().expect("checked");
-            replay_claim(component(&result), trace, claim_of(d, &names))
+            replay_claim(common::component(&result), trace, claim_of(d, &names))
                 .unwrap_or_else(|e| panic!("{e}"));
         }
     }
@@ -1393,7 +1349,7 @@ fn without_a_limit_the_same_fixtures_are_complete() {
         "unreachable-codel.inter-only-when-forbidden.gen",
         "dead-service.delayed-by-auto.gen",
     ] {
-        let result = common::check(&invalid(fixture));
+        let result = common::check(&common::invalid(fixture));
         assert!(
             !result
                 .diagnostics
@@ -1408,8 +1364,10 @@ fn without_a_limit_the_same_fixtures_are_complete() {
 fn outcomes_named_in_traces_are_outcomes_of_the_model() {
     // A sanity check of the helper the lasso check uses: an interrupted
     // codel leads to its `on-inter`.
-    let result = common::check(&invalid("unbounded-interrupt.looping-inter-codel.gen"));
-    let c = component(&result);
+    let result = common::check(&common::invalid(
+        "unbounded-interrupt.looping-inter-codel.gen",
+    ));
+    let c = common::component(&result);
     let mv = c.service_named("Move").expect("service exists");
     let start = c.codel_named(mv, "start").expect("codel exists");
     assert_eq!(

@@ -7,6 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use genom_checker::{CheckOptions, CheckResult};
+use genom_model::Diagnostic;
+use genom_model::component::Component;
 use genom_model::render::{FileReport, human};
 use genom_model::{Code, Severity};
 use genom_parser::FsLoader;
@@ -66,4 +68,48 @@ pub fn expected_code(path: &Path) -> Code {
     let code = name.split('.').next().unwrap_or_default();
     code.parse()
         .unwrap_or_else(|_| panic!("fixture {name} is not named after a diagnostic code"))
+}
+
+pub fn invalid(name: &str) -> PathBuf {
+    root().join("tests/fixtures/invalid").join(name)
+}
+
+pub fn valid(name: &str) -> PathBuf {
+    root().join("tests/fixtures/valid").join(name)
+}
+
+pub fn component(result: &CheckResult) -> &Component {
+    result
+        .component
+        .as_ref()
+        .expect("the fixture resolves to a component")
+}
+
+/// 1-based line of a diagnostic's primary label.
+pub fn primary_line(result: &CheckResult, d: &Diagnostic) -> usize {
+    let located = result.sources.locate(d.span()).expect("span is in a file");
+    let file = result.sources.file(located.file).expect("file exists");
+    file.line_col(located.offset).0
+}
+
+/// The description without its header comment, line by line.
+pub fn body(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).expect("fixture is readable");
+    let rest = text.split_once("*/").map_or(text.as_str(), |(_, r)| r);
+    rest.lines().map(str::to_owned).collect()
+}
+
+/// Lines of `a` not in `b` plus lines of `b` not in `a` (as multisets).
+pub fn changed_lines(a: &[String], b: &[String]) -> usize {
+    let mut rest: Vec<&String> = b.iter().collect();
+    let mut only_a = 0;
+    for line in a {
+        match rest.iter().position(|l| *l == line) {
+            Some(k) => {
+                rest.remove(k);
+            }
+            None => only_a += 1,
+        }
+    }
+    only_a + rest.len()
 }
