@@ -81,6 +81,12 @@ pub struct CheckArgs {
     /// Run only the static checks (no state-space exploration).
     #[arg(long)]
     pub static_only: bool,
+
+    /// Explore every cluster whole with every interleaving: turn off the
+    /// compositional exploration and the partial-order reduction of the untimed
+    /// engine (same verdicts; slower; traces may differ).
+    #[arg(long)]
+    pub no_reduction: bool,
 }
 
 /// Parses `30s`, `500ms`, `2min`, `1.5s` with the language's duration units.

@@ -10,7 +10,7 @@ use genom_model::{
 };
 use genom_parser::{Ast, LoadError, Loader};
 
-use crate::engine::{Limits, analyse};
+use crate::engine::Limits;
 
 /// Options of a check, built with consuming setters (as stateright's
 /// checker builder).
@@ -20,6 +20,7 @@ pub struct CheckOptions {
     timeout: Option<Duration>,
     max_memory: usize,
     behaviour: bool,
+    reduction: bool,
 }
 
 impl Default for CheckOptions {
@@ -29,6 +30,7 @@ impl Default for CheckOptions {
             timeout: None,
             max_memory: 8 << 30,
             behaviour: true,
+            reduction: true,
         }
     }
 }
@@ -65,6 +67,14 @@ impl CheckOptions {
     #[must_use]
     pub fn behaviour(mut self, on: bool) -> Self {
         self.behaviour = on;
+        self
+    }
+
+    /// Explores untimed models with partial-order reduction (default) or
+    /// every interleaving.
+    #[must_use]
+    pub fn reduction(mut self, on: bool) -> Self {
+        self.reduction = on;
         self
     }
 
@@ -137,7 +147,7 @@ pub fn check_source(
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);
             analysis
         } else {
-            analyse(c, options.limits(started))
+            crate::engine::analyse_with(c, options.limits(started), options.reduction)
         };
         diagnostics.extend(crate::checks::behaviour(c, &analysis));
         statistics = Some(Statistics {

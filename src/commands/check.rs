@@ -18,7 +18,8 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .max_states(args.max_states)
         .timeout(args.timeout)
         .max_memory(args.max_memory)
-        .behaviour(!args.static_only);
+        .behaviour(!args.static_only)
+        .reduction(!args.no_reduction);
     let mut io_failed = false;
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     for path in &args.files {

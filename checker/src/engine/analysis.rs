@@ -10,7 +10,8 @@ use genom_model::behaviour::{Behaviour, Effect, IDLE, PosId};
 use genom_model::component::{CodelId, Component, ServiceId};
 use genom_model::trace::{Event, Trace, TraceStep};
 
-use super::explore::{Limits, Stop, explore};
+use super::compose::{self, Composed, Env, Step};
+use super::explore::{Exploration, Limits, Stop, explore};
 use super::store::StateId;
 use super::system::{Action, Config, System};
 
@@ -84,6 +85,12 @@ pub struct Analysis {
     pub elapsed: Duration,
     /// Bytes per stored state (largest exploration).
     pub bytes_per_state: f64,
+    /// States expanded with a reduced set of actions (partial-order
+    /// reduction).
+    pub reduced: u64,
+    /// Parts explored compositionally (clusters split by
+    /// [`super::compose`]).
+    pub parts: u64,
     /// Services not started in their exploration, with why and a trace
     /// (they are dead unless another exploration starts them).
     dead_candidates: BTreeMap<ServiceId, Blocked>,
@@ -112,8 +119,15 @@ pub(crate) struct Witnesses<'w> {
     pub(crate) trace: &'w dyn Fn(StateId, Option<ServiceId>, TraceStep) -> Trace,
 }
 
-/// Explores the component and gathers every behavioural fact.
+/// Explores the component and gathers every behavioural fact, with
+/// partial-order reduction.
 pub fn analyse(c: &Component, limits: Limits) -> Analysis {
+    analyse_with(c, limits, true)
+}
+
+/// [`analyse`], with partial-order reduction (`reduce`) or exploring every
+/// interleaving.
+pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
     let b = Behaviour::new(c);
     let all: Vec<ServiceId> = c.services.ids().collect();
     let global = System::new(c, &b, &all, false);
@@ -121,12 +135,23 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
     let mut budget = limits;
     let (prefix, post_init) = match c.init_service() {
         Some(init) => pre_init(c, &b, init, &global, &mut budget, &mut out),
+
         None => (Vec::new(), Some(true)),
     };
     match post_init {
         Some(true) => {
             for cluster in clusters(c) {
-                explore_cluster(c, &b, &cluster, &prefix, &global, &mut budget, &mut out);
+                let whole = Whole {
+                    c,
+                    b: &b,
+                    prefix: &prefix,
+                    global: &global,
+                };
+                if !(reduce && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
+                    let sys = System::new(c, &b, &cluster, false);
+                    let sys = if reduce { sys.with_reduction() } else { sys };
+                    explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);
+                }
             }
         }
         Some(false) => {}
@@ -187,22 +212,19 @@ fn pre_init(
 }
 
 fn explore_cluster(
-    c: &Component,
-    b: &Behaviour,
-    cluster: &[ServiceId],
+    sys: &System<'_>,
     prefix: &[Action],
     global: &System<'_>,
     budget: &mut Limits,
     out: &mut Analysis,
 ) {
-    let sys = System::new(c, b, cluster, false);
     if sys.too_many_stops() {
-        out.unproven.extend(cluster.iter().copied());
+        out.unproven.extend(sys.services());
         out.stopped.get_or_insert(Stop::States);
         return;
     }
     let mut found = Found::default();
-    let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
+    let e = explore(sys, *budget, |id, cfg| visit(sys, id, cfg, &mut found));
     out.account(
         budget,
         e.store.len(),
@@ -211,17 +233,18 @@ fn explore_cluster(
         e.store.bytes_per_state(),
         e.stopped,
     );
+    out.reduced += e.reduced;
     if e.stopped.is_some() {
-        out.unproven.extend(cluster.iter().copied());
+        out.unproven.extend(sys.services());
     }
-    let config = |id: StateId| e.store_config(&sys, id);
+    let config = |id: StateId| e.store_config(sys, id);
     let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
         let full: Vec<Action> = prefix.iter().copied().chain(e.store.path(id)).collect();
         replay(global, &full, looping, last)
     };
     collect(
         &Witnesses {
-            sys: &sys,
+            sys,
             config: &config,
             trace: &trace,
         },
@@ -230,7 +253,158 @@ fn explore_cluster(
     );
 }
 
+/// What every exploration of a cluster shares.
+struct Whole<'w> {
+    c: &'w Component,
+    b: &'w Behaviour,
+    /// The path to the end of initialisation.
+    prefix: &'w [Action],
+    /// The whole component, to replay traces in.
+    global: &'w System<'w>,
+}
+
+/// Largest environment automaton kept between parts.
+const MAX_ENV_STATES: usize = 4096;
+
+/// Explores a cluster part by part (see [`compose`]). Returns `false`, with
+/// `out` untouched, when the cluster has one part or a part's witness
+/// cannot be made concrete: the caller then explores the cluster whole.
+fn explore_parts(
+    w: &Whole<'_>,
+    cluster: &[ServiceId],
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> bool {
+    let parts = compose::parts(w.c, cluster);
+    if parts.len() < 2 {
+        return false;
+    }
+    let upstream = compose::upstream(w.c, cluster, &parts);
+    let mut env = Env::empty();
+    let mut tmp = Analysis::default();
+    let mut local = *budget;
+    for (k, part) in parts.iter().enumerate() {
+        let inputs = compose::inputs(w.c, cluster, part);
+        let sys = System::with_inputs(w.c, w.b, part, &inputs, false);
+        if sys.too_many_stops() {
+            return false;
+        }
+        let Some(model) = Composed::new(sys, &env) else {
+            return false;
+        };
+        let mut cone: Vec<ServiceId> = upstream[k].iter().flat_map(|&j| parts[j].clone()).collect();
+        cone.extend(part.iter().copied());
+        cone.sort();
+        let cone = System::new(w.c, w.b, &cone, false);
+        let Some(e) = explore_part(w, &model, &cone, &mut local, &mut tmp) else {
+            return false;
+        };
+        if e.stopped.is_some() {
+            // A limit stopped it: nothing later can be exact either.
+            tmp.unproven.extend(cluster.iter().copied());
+            break;
+        }
+        let later: Vec<ServiceId> = parts[..=k]
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|s| {
+                parts[k + 1..]
+                    .iter()
+                    .any(|p| compose::inputs(w.c, cluster, p).contains(s))
+            })
+            .collect();
+        let next = if later.is_empty() {
+            Env::empty()
+        } else {
+            match compose::project(&model, &e, &later, MAX_ENV_STATES) {
+                Some(next) => next,
+                None => return false,
+            }
+        };
+        drop(model);
+        env = next;
+    }
+    tmp.parts += parts.len() as u64;
+    out.absorb(tmp);
+    *budget = local;
+    true
+}
+
+/// Explores one composed part and collects its witnesses, made concrete in
+/// `cone` (the part and its upstream). `None` when a witness cannot be made
+/// concrete.
+fn explore_part(
+    w: &Whole<'_>,
+    model: &Composed<'_>,
+    cone: &System<'_>,
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> Option<Exploration<Step>> {
+    let sys = &model.sys;
+    let mut found = Found::default();
+    let e = explore(model, *budget, |id, st| visit(sys, id, &st.0, &mut found));
+    out.account(
+        budget,
+        e.store.len(),
+        e.transitions,
+        e.elapsed,
+        e.store.bytes_per_state(),
+        e.stopped,
+    );
+    let failed = std::cell::Cell::new(false);
+    let cap = budget.max_states.clamp(1, 2_000_000);
+    let config = |id: StateId| e.store_config(model, id).0;
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| match compose::concretize(
+        model,
+        cone,
+        &e.store.path(id),
+        cap,
+    ) {
+        Some(path) => {
+            let full: Vec<Action> = w.prefix.iter().copied().chain(path).collect();
+            replay(w.global, &full, looping, last)
+        }
+        None => {
+            failed.set(true);
+            Trace::default()
+        }
+    };
+    collect(
+        &Witnesses {
+            sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
+    (!failed.get()).then_some(e)
+}
+
 impl Analysis {
+    /// Adds everything `other` established (explorations of disjoint
+    /// services).
+    fn absorb(&mut self, other: Analysis) {
+        self.reached.extend(other.reached);
+        self.started.extend(other.started);
+        self.deadlocks.extend(other.deadlocks);
+        self.starvations.extend(other.starvations);
+        self.unbounded.extend(other.unbounded);
+        self.dead.extend(other.dead);
+        self.unproven.extend(other.unproven);
+        self.stopped = self.stopped.or(other.stopped);
+        self.states += other.states;
+        self.transitions += other.transitions;
+        self.elapsed += other.elapsed;
+        self.bytes_per_state = self.bytes_per_state.max(other.bytes_per_state);
+        self.reduced += other.reduced;
+        self.parts += other.parts;
+        for (s, b) in other.dead_candidates {
+            self.dead_candidates.entry(s).or_insert(b);
+        }
+    }
+
     /// Adds the figures of one exploration and charges its states to the
     /// remaining budget.
     pub(crate) fn account(
@@ -262,7 +436,7 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
     }
     let n = cfg.main.len();
     let running = sys.running(cfg);
-    for i in 0..n {
+    for i in (0..n).filter(|&i| !sys.is_input(i)) {
         let s = sys.service(i);
         let m = sys.machine_of(i);
         let pos = sys.position(cfg, i);
@@ -300,8 +474,7 @@ fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut F
         return;
     }
     for (t, via_delays) in sys.blockers(cfg, i) {
-        let main = usize::from(cfg.main[t]);
-        if cfg.main[t] != IDLE && sys.machine_of(t).may_never_end[main] {
+        if sys.may_never_end(cfg, t) {
             found
                 .starvations
                 .entry((sys.service(i), sys.service(t)))
@@ -314,7 +487,8 @@ fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut F
 /// `delays`, none of which a watchdog can end.
 fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
     let n = cfg.main.len();
-    let node = |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog;
+    let node =
+        |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
     let edges: Vec<Vec<usize>> = (0..n)
         .map(|i| {
             if !node(i) {

@@ -40,6 +40,14 @@ pub trait Model {
     fn expand(&self, _state: &Self::State) -> bool {
         true
     }
+    /// Partial-order reduction: moves a persistent (stubborn) subset of the
+    /// enabled `actions` to the front and returns its length. The default,
+    /// `actions.len()`, explores every action. The explorer expands the
+    /// rest too when a reduced successor is already stored (the cycle
+    /// proviso), so a reduction only has to be persistent and invisible.
+    fn reduce(&self, _state: &Self::State, actions: &mut [Self::Action]) -> usize {
+        actions.len()
+    }
 }
 
 /// Resource limits of one run.
@@ -85,6 +93,9 @@ pub struct Exploration<A, Z = ()> {
     pub stopped: Option<Stop>,
     /// Time spent.
     pub elapsed: Duration,
+    /// States expanded with a reduced set of actions (partial-order
+    /// reduction).
+    pub reduced: u64,
 }
 
 impl<A: Copy, Z: Subsumes> Exploration<A, Z> {
@@ -115,6 +126,7 @@ pub fn explore<M: Model>(
     let mut transitions = 0u64;
     let mut next: usize = 0;
     let mut stopped = None;
+    let mut reduced = 0u64;
     'expansions: while next < store.len() {
         stopped = check_limits(&store, limits, next);
         if stopped.is_some() {
@@ -131,21 +143,39 @@ pub fn explore<M: Model>(
         }
         actions.clear();
         model.actions(&state, &mut actions);
-        for &a in &actions {
-            let Some(succ) = model.next_state(&state, a) else {
-                continue;
-            };
-            transitions += 1;
-            key.clear();
-            model.encode(&succ, &mut key);
-            let (sid, new) = store.insert(&key, model.zone(&succ), Some((id, a)));
-            if new {
-                visit(sid, &succ);
+        let mut limit = model.reduce(&state, &mut actions).min(actions.len());
+        let mut k = 0;
+        let mut old_successor = false;
+        while k < limit {
+            let a = actions[k];
+            k += 1;
+            match model.next_state(&state, a) {
+                // No change: a self-loop, hence a stored successor.
+                None => old_successor = true,
+                Some(succ) => {
+                    transitions += 1;
+                    key.clear();
+                    model.encode(&succ, &mut key);
+                    let (sid, new) = store.insert(&key, model.zone(&succ), Some((id, a)));
+                    if new {
+                        visit(sid, &succ);
+                    }
+                    old_successor |= !new;
+                    stopped = check_successor(&store, limits, new, transitions);
+                    if stopped.is_some() {
+                        break 'expansions;
+                    }
+                }
             }
-            stopped = check_successor(&store, limits, new, transitions);
-            if stopped.is_some() {
-                break 'expansions;
+            // The cycle proviso: a reduced expansion reaching a stored
+            // state becomes a full one, so that every cycle of the reduced
+            // graph has a fully expanded state.
+            if k == limit && old_successor {
+                limit = actions.len();
             }
+        }
+        if limit < actions.len() {
+            reduced += 1;
         }
     }
     Exploration {
@@ -153,6 +183,7 @@ pub fn explore<M: Model>(
         transitions,
         stopped,
         elapsed: started.elapsed(),
+        reduced,
     }
 }
 

@@ -13,10 +13,12 @@
 //! and every witness is replayed in the whole component for its trace.
 
 pub mod analysis;
+pub mod compose;
 pub mod explore;
 pub mod petri_check;
+pub mod reduction;
 pub mod store;
 pub mod system;
 
-pub use analysis::{Analysis, Blocked, analyse};
+pub use analysis::{Analysis, Blocked, analyse, analyse_with};
 pub use explore::{Limits, Stop};

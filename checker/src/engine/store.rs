@@ -150,6 +150,14 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         (id, true)
     }
 
+    /// The first stored state with these words, if any (for untimed models,
+    /// the state itself).
+    pub fn find(&self, key: &[u64]) -> Option<StateId> {
+        let (words, width) = (&self.words, self.width);
+        let eq = |&id: &StateId| words[id as usize * width..(id as usize + 1) * width] == *key;
+        self.table.find(self.hash(key), eq).copied()
+    }
+
     /// Whether a later state's zone includes this one's.
     pub fn is_covered(&self, id: StateId) -> bool {
         self.covered.get(id as usize).copied().unwrap_or(false)

@@ -17,6 +17,7 @@ use genom_model::kinds::ServiceKind;
 use genom_model::trace::{Event, TraceStep};
 
 use super::explore::Model;
+use super::reduction::Reduction;
 
 /// A configuration of the member services.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -80,6 +81,11 @@ struct Member {
     can_pend: bool,
     /// Has a max-time watchdog (one bit of `timed_out` is stored).
     watchdog: bool,
+    /// An *input*: a service of another part of the component whose
+    /// instance only matters here through `delays`/`forbids`; it takes no
+    /// step of its own. Its pending slot holds what the environment says:
+    /// `Some(0)` has an instance, `Some(1)` has one that may never end.
+    input: bool,
 }
 
 /// The member services and their rules.
@@ -99,12 +105,30 @@ pub struct System<'a> {
     codel_structures: Vec<Vec<(StructureId, bool)>>,
     /// Words per encoded configuration.
     width: usize,
+    /// The partial-order reduction's tables, when reduction is on.
+    reduction: Option<Reduction>,
 }
 
 impl<'a> System<'a> {
     /// The system of `members` (sorted service ids). With `pre_init`,
     /// states where init has completed are not expanded.
     pub fn new(c: &'a Component, b: &'a Behaviour, members: &[ServiceId], pre_init: bool) -> Self {
+        Self::with_inputs(c, b, members, &[], pre_init)
+    }
+
+    /// The system of `members` and of the `inputs` (sorted service ids,
+    /// disjoint): inputs take no steps; their instances are set by
+    /// [`Self::set_input`] (see [`super::compose`]).
+    pub fn with_inputs(
+        c: &'a Component,
+        b: &'a Behaviour,
+        members: &[ServiceId],
+        inputs: &[ServiceId],
+        pre_init: bool,
+    ) -> Self {
+        let mut all: Vec<ServiceId> = members.iter().chain(inputs).copied().collect();
+        all.sort();
+        let members = all.as_slice();
         let mut index = vec![None; c.services.len()];
         for (i, &s) in members.iter().enumerate() {
             index[s.0 as usize] = Some(i);
@@ -113,7 +137,7 @@ impl<'a> System<'a> {
         let members: Vec<Member> = members
             .iter()
             .zip(delayers.into_iter().zip(forbidders))
-            .map(|(&s, rules)| member(c, b, &index, s, rules))
+            .map(|(&s, rules)| member(c, b, &index, s, rules, inputs.contains(&s)))
             .collect();
         // Only the codels of members are ever asked about: computing the
         // others for every cluster made many small clusters quadratic.
@@ -135,7 +159,22 @@ impl<'a> System<'a> {
             pre_init,
             codel_structures,
             width,
+            reduction: None,
         }
+    }
+
+    /// The same system, explored with partial-order reduction (see
+    /// [`super::reduction`]).
+    #[must_use]
+    pub fn with_reduction(mut self) -> Self {
+        self.reduction = Some(Reduction::new(&self));
+        self
+    }
+
+    /// Member indices of the `stops` targets of member `i` (itself
+    /// included when it stops itself).
+    pub fn stops_of(&self, i: usize) -> &[usize] {
+        &self.members[i].stops
     }
 
     /// The component's init service.
@@ -148,9 +187,29 @@ impl<'a> System<'a> {
         self.c
     }
 
-    /// The member services.
+    /// The member services (inputs excluded).
     pub fn services(&self) -> impl Iterator<Item = ServiceId> + '_ {
-        self.members.iter().map(|m| m.service)
+        self.members.iter().filter(|m| !m.input).map(|m| m.service)
+    }
+
+    /// Whether member `i` is an input (takes no steps here).
+    pub fn is_input(&self, i: usize) -> bool {
+        self.members[i].input
+    }
+
+    /// Sets input member `i`: no instance (`None`), an instance, or one that
+    /// may never end.
+    pub fn set_input(cfg: &mut Config, i: usize, instance: Option<bool>) {
+        cfg.pending[i] = instance.map(u64::from);
+    }
+
+    /// Whether member `i` has an instance that may never end by itself (an
+    /// active loop without watchdog; for inputs, what the environment says).
+    pub fn may_never_end(&self, cfg: &Config, i: usize) -> bool {
+        if self.members[i].input {
+            return cfg.pending[i] == Some(1);
+        }
+        cfg.main[i] != IDLE && self.machine(i).may_never_end[usize::from(cfg.main[i])]
     }
 
     /// The member index of a service.
@@ -175,6 +234,16 @@ impl<'a> System<'a> {
     /// The configuration where nothing has happened yet: autos are
     /// acknowledged when there is no init service (or `init_done`).
     pub fn initial(&self, init_done: bool, events: &mut Option<&mut Vec<TraceStep>>) -> Config {
+        self.initial_with(init_done, |_| {}, events)
+    }
+
+    /// [`Self::initial`], with the inputs set by `inputs` first.
+    pub fn initial_with(
+        &self,
+        init_done: bool,
+        inputs: impl FnOnce(&mut Config),
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Config {
         let n = self.members.len();
         let mut cfg = Config {
             init_done: init_done || self.init.is_none(),
@@ -182,6 +251,7 @@ impl<'a> System<'a> {
             pending: vec![None; n],
             timed_out: vec![false; n],
         };
+        inputs(&mut cfg);
         if cfg.init_done {
             self.start_autos(&mut cfg, events);
             self.closure(&mut cfg, events);
@@ -510,7 +580,10 @@ impl<'a> System<'a> {
 
     fn start_autos(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
         for (i, m) in self.members.iter().enumerate() {
-            if self.c.services[m.service].kind == ServiceKind::Auto && !Self::has_instance(cfg, i) {
+            if !m.input
+                && self.c.services[m.service].kind == ServiceKind::Auto
+                && !Self::has_instance(cfg, i)
+            {
                 cfg.pending[i] = Some(0);
                 let text = format!("auto service `{}` is acknowledged", self.name(m.service));
                 self.emit(ev, Event::Acknowledge, m.service, None, || (None, text));
@@ -519,7 +592,7 @@ impl<'a> System<'a> {
     }
 
     /// Starts every pending instance that can start (step 7), until none can.
-    fn closure(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
+    pub(crate) fn closure(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
         loop {
             let ready = (0..self.members.len()).find(|&i| self.can_start(cfg, i));
             let Some(i) = ready else { return };
@@ -544,7 +617,8 @@ impl<'a> System<'a> {
 
     /// Step 7: not delayed, and no longer waiting for interrupted instances.
     fn can_start(&self, cfg: &Config, i: usize) -> bool {
-        cfg.pending[i] == Some(0)
+        !self.members[i].input
+            && cfg.pending[i] == Some(0)
             && cfg.main[i] == IDLE
             && !self.members[i]
                 .delayers
@@ -717,6 +791,7 @@ fn member(
     index: &[Option<usize>],
     s: ServiceId,
     (delayers, forbidders): (Vec<usize>, Vec<usize>),
+    input: bool,
 ) -> Member {
     let svc = &c.services[s];
     let idx = |t: ServiceId| index.get(t.0 as usize).copied().flatten();
@@ -733,6 +808,22 @@ fn member(
     let positions = b.machine(s).positions.len();
     let pos_bits = usize::BITS - positions.saturating_sub(1).leading_zeros();
     let can_pend = !delayers.is_empty() || !stops.is_empty();
+    if input {
+        // Only its pending slot is stored: one bit of presence, one of
+        // "may never end".
+        return Member {
+            service: s,
+            self_stop: false,
+            stops: Vec::new(),
+            delayers: Vec::new(),
+            forbidders: Vec::new(),
+            control: Vec::new(),
+            pos_bits: 0,
+            can_pend: true,
+            watchdog: false,
+            input,
+        };
+    }
     Member {
         service: s,
         self_stop: svc.stops.iter().any(|r| r.id == s),
@@ -743,6 +834,7 @@ fn member(
         pos_bits,
         can_pend,
         watchdog: svc.max_time.is_some(),
+        input,
     }
 }
 
@@ -837,7 +929,7 @@ impl Model for System<'_> {
 
     fn actions(&self, cfg: &Config, out: &mut Vec<Action>) {
         let running = self.running(cfg);
-        for (i, m) in self.members.iter().enumerate() {
+        for (i, m) in self.members.iter().enumerate().filter(|(_, m)| !m.input) {
             let s = m.service;
             if self.request_enabled_among(cfg, i, &running) {
                 out.push(Action::Request(s));
@@ -909,11 +1001,21 @@ impl Model for System<'_> {
     fn expand(&self, cfg: &Config) -> bool {
         !(self.pre_init && cfg.init_done)
     }
+
+    fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
+        match &self.reduction {
+            Some(r) => r.stubborn(self, cfg, actions),
+            None => actions.len(),
+        }
+    }
 }
 
 /// Bits of a member's wait mask (at most 64 `stops` targets are tracked;
 /// the analysis refuses larger ones as incomplete).
 fn stop_bits(m: &Member) -> u32 {
+    if m.input {
+        return 1;
+    }
     u32::try_from(m.stops.len()).unwrap_or(64).min(64)
 }
 

@@ -1,0 +1,173 @@
+//! The reductions of the untimed engine against exhaustive exploration:
+//! on generated components, exploring clusters part by part (compositional
+//! exploration) with the partial-order reduction must establish exactly
+//! what the exploration of whole clusters with every interleaving
+//! establishes — the codels run, the services started, the deadlocks,
+//! starvations, unbounded interrupts and dead services — and each trace it
+//! gives must replay against the semantics and show its verdict.
+
+#![allow(clippy::expect_used)] // test support code
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use genom_checker::engine::{Analysis, Limits, analyse_with};
+use genom_checker::generate::{GeneratorConfig, generate};
+use genom_checker::replay::{Claim, replay_claim};
+use genom_checker::{CheckOptions, check_source};
+use genom_model::component::{Component, ServiceId};
+use genom_model::trace::Trace;
+use genom_parser::FsLoader;
+
+/// What an analysis establishes, by name.
+#[derive(Debug, PartialEq, Eq)]
+struct Facts {
+    reached: BTreeSet<String>,
+    started: BTreeSet<String>,
+    deadlocks: BTreeSet<Vec<String>>,
+    starvations: BTreeSet<(String, String)>,
+    unbounded: BTreeSet<String>,
+    dead: BTreeSet<String>,
+}
+
+fn name(c: &Component, s: ServiceId) -> String {
+    c.services[s].name.name.clone()
+}
+
+fn facts(c: &Component, a: &Analysis) -> Facts {
+    Facts {
+        reached: a.reached.iter().map(|&k| c.codel_label(k)).collect(),
+        started: a.started.iter().map(|&s| name(c, s)).collect(),
+        deadlocks: a
+            .deadlocks
+            .iter()
+            .map(|d| d.services.iter().map(|&s| name(c, s)).collect())
+            .collect(),
+        starvations: a
+            .starvations
+            .iter()
+            .map(|s| (name(c, s.waiter), name(c, s.blocker)))
+            .collect(),
+        unbounded: a.unbounded.iter().map(|u| name(c, u.service)).collect(),
+        dead: a.dead.iter().map(|d| name(c, d.service)).collect(),
+    }
+}
+
+/// Replays every trace of `a` with the claim it supports.
+fn replay_all(c: &Component, a: &Analysis) -> Vec<String> {
+    let mut failures = Vec::new();
+    let mut check = |trace: &Trace, claim: Claim<'_>, what: String| {
+        if let Err(e) = replay_claim(c, trace, claim) {
+            failures.push(format!("{what}: {e}"));
+        }
+    };
+    for d in &a.deadlocks {
+        let names: Vec<String> = d.services.iter().map(|&s| name(c, s)).collect();
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        check(
+            &d.trace,
+            Claim::Deadlock(&refs),
+            format!("deadlock {names:?}"),
+        );
+    }
+    for s in &a.starvations {
+        let (w, b) = (name(c, s.waiter), name(c, s.blocker));
+        let claim = Claim::Starvation {
+            waiter: &w,
+            blocker: &b,
+        };
+        check(&s.trace, claim, format!("starvation {w} by {b}"));
+    }
+    for u in &a.unbounded {
+        let n = name(c, u.service);
+        check(
+            &u.trace,
+            Claim::UnboundedInterrupt(&n),
+            format!("unbounded {n}"),
+        );
+    }
+    for d in &a.dead {
+        let n = name(c, d.service);
+        check(&d.trace, Claim::DeadService(&n), format!("dead {n}"));
+    }
+    failures
+}
+
+/// A component from a generator configuration, resolved.
+fn component(cfg: &GeneratorConfig) -> Component {
+    let text = generate(cfg);
+    let options = CheckOptions::new().behaviour(false);
+    let result = check_source(Path::new("generated.gen"), text, &FsLoader, &options);
+    result.component.expect("a generated component resolves")
+}
+
+/// Compares both analyses of one component; `None` when the exhaustive one
+/// does not finish within its limit. Returns the number of parts explored.
+fn compare(cfg: &GeneratorConfig) -> Option<u64> {
+    let c = component(cfg);
+    let limits = Limits {
+        max_states: 400_000,
+        ..Limits::default()
+    };
+    let full = analyse_with(&c, limits, false);
+    if full.stopped.is_some() {
+        return None;
+    }
+    let reduced = analyse_with(&c, Limits::default(), true);
+    assert!(
+        reduced.stopped.is_none(),
+        "seed {}: reduced incomplete",
+        cfg.seed
+    );
+    assert_eq!(
+        facts(&c, &reduced),
+        facts(&c, &full),
+        "seed {}: the reductions change what is established\n{}",
+        cfg.seed,
+        generate(cfg)
+    );
+    let failures = replay_all(&c, &reduced);
+    assert!(
+        failures.is_empty(),
+        "seed {}: traces do not replay:\n{}\n{}",
+        cfg.seed,
+        failures.join("\n"),
+        generate(cfg)
+    );
+    Some(reduced.parts)
+}
+
+/// Small random components (the generator's whole space).
+#[test]
+fn small_components_agree_with_exhaustive_exploration() {
+    let mut split = 0;
+    for seed in 0..300 {
+        if compare(&GeneratorConfig::small(seed)).is_some_and(|p| p > 0) {
+            split += 1;
+        }
+    }
+    assert!(split >= 30, "only {split} components were split into parts");
+}
+
+/// Medium components with several rules per service: clusters that split
+/// into several parts, some with inputs from upstream parts.
+#[test]
+fn medium_components_agree_with_exhaustive_exploration() {
+    let (mut compared, mut split) = (0, 0);
+    for seed in 0..60 {
+        let mut cfg = GeneratorConfig::new(seed, 5 + (seed % 3) as usize);
+        cfg.codels_per_service = 2 + (seed % 2) as usize;
+        cfg.threads = 1 + (seed % 2) as usize;
+        cfg.rule_density = 1.0 + (seed % 3) as f64 * 0.5;
+        cfg.init = seed % 2 == 0;
+        cfg.autos = (seed % 3 == 0) as usize;
+        cfg.auto_rules = seed % 5 == 0;
+        cfg.self_stops = if seed % 4 == 0 { 0.5 } else { 0.0 };
+        if let Some(parts) = compare(&cfg) {
+            compared += 1;
+            split += usize::from(parts > 0);
+        }
+    }
+    assert!(compared >= 40, "only {compared} components compared");
+    assert!(split >= 20, "only {split} components were split into parts");
+}
