@@ -8,8 +8,11 @@
 //!
 //! Before measuring, each case is checked once and its exploration figures
 //! are printed on stderr (states, transitions, bytes per state, largest
-//! cluster, whether the exploration finished), so that the time per
-//! iteration can be read as states per second. Explorations are capped at
+//! cluster and part, whether the exploration finished): first exploring
+//! every cluster whole (`--no-reduction`), then with the default engine
+//! (compositional exploration and partial-order reduction), which is what
+//! criterion measures, so that the time per iteration can be read as states
+//! per second. Explorations are capped at
 //! [`MAX_STATES`] states so that a case whose state space explodes still
 //! gives a number (the time to explore that many states) instead of
 //! running out of memory; such a case is marked `incomplete`.
@@ -51,22 +54,30 @@ fn options() -> CheckOptions {
     CheckOptions::new().max_states(MAX_STATES)
 }
 
-/// Checks once and prints the exploration figures; returns the states.
+/// Checks once with the default engine, and once exploring every cluster
+/// whole with every interleaving (`--no-reduction`), and prints the
+/// exploration figures of both; returns the default's states.
 fn report(name: &str, text: &str) -> u64 {
+    run(&format!("{name} (whole)"), text, &options().reduction(false));
+    run(name, text, &options())
+}
+
+/// Checks once and prints the exploration figures; returns the states.
+fn run(name: &str, text: &str, options: &CheckOptions) -> u64 {
     let started = Instant::now();
     let result = check_source(
         Path::new("bench.gen"),
         text.to_owned(),
         &MemoryLoader::new(),
-        &options(),
+        options,
     );
     let elapsed = started.elapsed();
     let stats = result.statistics.expect("the engine ran");
-    let largest = result.component.as_ref().map_or(0, largest_cluster);
+    let (cluster, part) = result.component.as_ref().map_or((0, 0), largest);
     #[allow(clippy::cast_precision_loss)]
     let rate = stats.states as f64 / elapsed.as_secs_f64().max(1e-9);
     eprintln!(
-        "{name}: {} states, {} transitions, {:.1} ms, {rate:.0} states/s, {:.1} B/state, largest cluster {largest} services{}",
+        "{name}: {} states, {} transitions, {:.1} ms, {rate:.0} states/s, {:.1} B/state, largest cluster {cluster}, largest part {part}{}",
         stats.states,
         stats.transitions,
         elapsed.as_secs_f64() * 1000.0,
@@ -76,32 +87,20 @@ fn report(name: &str, text: &str) -> u64 {
     stats.states
 }
 
-/// Services in the largest connected component of the `stops`/`delays`/
-/// `forbids` relation (what the engine explores as one product).
-fn largest_cluster(c: &Component) -> usize {
-    let n = c.services.len();
-    let mut root: Vec<usize> = (0..n).collect();
-    fn find(root: &mut [usize], mut x: usize) -> usize {
-        while root[x] != x {
-            root[x] = root[root[x]];
-            x = root[x];
-        }
-        x
-    }
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            let (a, b) = (
-                find(&mut root, s.0 as usize),
-                find(&mut root, r.id.0 as usize),
-            );
-            root[a] = b;
-        }
-    }
-    let mut size = vec![0; n];
-    for x in 0..n {
-        size[find(&mut root, x)] += 1;
-    }
-    size.into_iter().max().unwrap_or(0)
+/// Services in the largest cluster (connected component of the `stops`/
+/// `delays`/`forbids` relation) and in the largest part (strongly connected
+/// component of the depends-on relation): what the engine explores as one
+/// product without and with compositional exploration.
+fn largest(c: &Component) -> (usize, usize) {
+    let clusters = genom_checker::engine::analysis::clusters(c);
+    let cluster = clusters.iter().map(Vec::len).max().unwrap_or(0);
+    let part = clusters
+        .iter()
+        .flat_map(|k| genom_checker::engine::compose::parts(c, k))
+        .map(|p| p.len())
+        .max()
+        .unwrap_or(0);
+    (cluster, part)
 }
 
 fn bench(c: &mut Criterion) {

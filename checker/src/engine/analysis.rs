@@ -300,8 +300,9 @@ fn explore_parts(
             return false;
         };
         if e.stopped.is_some() {
-            // A limit stopped it: nothing later can be exact either.
-            tmp.unproven.extend(cluster.iter().copied());
+            // A limit stopped it: what earlier parts established stands;
+            // later parts, explored with its projection, would not be exact.
+            tmp.unproven.extend(parts[k..].iter().flatten().copied());
             break;
         }
         let later: Vec<ServiceId> = parts[..=k]

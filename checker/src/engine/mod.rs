@@ -11,6 +11,10 @@
 //! the others reach (threads and locks only delay codels that always finish),
 //! so each cluster is explored on its own from the unique post-init state,
 //! and every witness is replayed in the whole component for its trace.
+//! A cluster that splits into parts (strongly connected components of the
+//! depends-on relation) is explored part by part with an automaton of its
+//! upstream ([`compose`]); a cluster explored whole uses a partial-order
+//! reduction of quiet codel steps ([`reduction`]).
 
 pub mod analysis;
 pub mod compose;

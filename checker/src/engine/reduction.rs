@@ -171,3 +171,50 @@ fn member_codels(sys: &System<'_>) -> Vec<(usize, CodelId)> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use genom_model::behaviour::Behaviour;
+    use genom_model::component::ServiceId;
+
+    use crate::engine::explore::{Limits, explore};
+    use crate::engine::system::System;
+    use crate::testing::check;
+
+    /// Two looping services on threads of their own, sharing no data, and a
+    /// third that stops the first while a codel writes what its control
+    /// codel reads.
+    const SRC: &str = "component t { lang: C; }\nids d { double x; }\n\
+        thread t1 { period: 10ms; }\nthread t2 { period: 10ms; }\nthread t3 { period: 10ms; }\n\
+        service a { thread: t1;\n start codel { exec: f(d.x); update: d.x; next: run; }\n\
+          exec codel run { exec: f(d.x); update: d.x; next: run, end; } }\n\
+        service b { thread: t2;\n start codel { exec: g(); next: run; }\n\
+          exec codel run { exec: g(); next: run, end; } }\n\
+        service c { thread: t3; stops: a;\n control codel { exec: h(const d.x); }\n\
+          start codel { exec: k(); next: end; } }\n";
+
+    #[test]
+    fn quiet_steps_cut_interleavings_and_keep_every_local_state() {
+        let c = check(SRC).component.expect("a component");
+        let b = Behaviour::new(&c);
+        let all: Vec<ServiceId> = c.services.ids().collect();
+        let positions = |reduce: bool| {
+            let sys = System::new(&c, &b, &all, false);
+            let sys = if reduce { sys.with_reduction() } else { sys };
+            let mut seen = std::collections::BTreeSet::new();
+            let e = explore(&sys, Limits::default(), |_, cfg| {
+                for i in 0..cfg.main.len() {
+                    seen.insert((i, cfg.main[i]));
+                }
+            });
+            assert!(e.stopped.is_none());
+            (e.store.len(), e.reduced, seen)
+        };
+        let (full, none, all_full) = positions(false);
+        let (reduced, expansions, all_reduced) = positions(true);
+        assert_eq!(none, 0);
+        assert!(expansions > 0, "some state is expanded with a quiet step");
+        assert!(reduced < full, "{reduced} states, {full} without reduction");
+        assert_eq!(all_reduced, all_full, "every position of every service");
+    }
+}
