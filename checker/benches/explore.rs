@@ -58,7 +58,11 @@ fn options() -> CheckOptions {
 /// whole with every interleaving (`--no-reduction`), and prints the
 /// exploration figures of both; returns the default's states.
 fn report(name: &str, text: &str) -> u64 {
-    run(&format!("{name} (whole)"), text, &options().reduction(false));
+    run(
+        &format!("{name} (whole)"),
+        text,
+        &options().reduction(false),
+    );
     run(name, text, &options())
 }
 

@@ -275,58 +275,43 @@ fn explore_parts(
     budget: &mut Limits,
     out: &mut Analysis,
 ) -> bool {
-    let parts = compose::parts(w.c, cluster);
-    if parts.len() < 2 {
+    let plan = compose::Plan::new(w.c, cluster);
+    if plan.parts.len() < 2 {
         return false;
     }
-    let upstream = compose::upstream(w.c, cluster, &parts);
     let mut env = Env::empty();
     let mut tmp = Analysis::default();
     let mut local = *budget;
-    for (k, part) in parts.iter().enumerate() {
-        let inputs = compose::inputs(w.c, cluster, part);
-        let sys = System::with_inputs(w.c, w.b, part, &inputs, false);
+    for (k, part) in plan.parts.iter().enumerate() {
+        let sys = System::with_inputs(w.c, w.b, part, &plan.inputs[k], false);
         if sys.too_many_stops() {
             return false;
         }
         let Some(model) = Composed::new(sys, &env) else {
             return false;
         };
-        let mut cone: Vec<ServiceId> = upstream[k].iter().flat_map(|&j| parts[j].clone()).collect();
-        cone.extend(part.iter().copied());
-        cone.sort();
-        let cone = System::new(w.c, w.b, &cone, false);
+        let cone = System::new(w.c, w.b, &plan.cone(k), false);
         let Some(e) = explore_part(w, &model, &cone, &mut local, &mut tmp) else {
             return false;
         };
         if e.stopped.is_some() {
             // A limit stopped it: what earlier parts established stands;
             // later parts, explored with its projection, would not be exact.
-            tmp.unproven.extend(parts[k..].iter().flatten().copied());
+            tmp.unproven
+                .extend(plan.parts[k..].iter().flatten().copied());
             break;
         }
-        let later: Vec<ServiceId> = parts[..=k]
-            .iter()
-            .flatten()
-            .copied()
-            .filter(|s| {
-                parts[k + 1..]
-                    .iter()
-                    .any(|p| compose::inputs(w.c, cluster, p).contains(s))
-            })
-            .collect();
-        let next = if later.is_empty() {
-            Env::empty()
-        } else {
-            match compose::project(&model, &e, &later, MAX_ENV_STATES) {
+        let next = match plan.interface(k) {
+            [] => Env::empty(),
+            later => match compose::project(&model, &e, later, MAX_ENV_STATES) {
                 Some(next) => next,
                 None => return false,
-            }
+            },
         };
         drop(model);
         env = next;
     }
-    tmp.parts += parts.len() as u64;
+    tmp.parts += plan.parts.len() as u64;
     out.absorb(tmp);
     *budget = local;
     true

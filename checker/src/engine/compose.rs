@@ -26,7 +26,7 @@
 //! ("Compositional exploration") states the argument; tests/compose.rs
 //! compares it with the exploration of whole clusters.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use genom_model::component::{Component, ServiceId};
 use petgraph::algo::tarjan_scc;
@@ -65,27 +65,74 @@ pub fn parts(c: &Component, cluster: &[ServiceId]) -> Vec<Vec<ServiceId>> {
         .collect()
 }
 
-/// For each part, the earlier parts it depends on, directly or not (the
-/// parts of its inputs, and theirs).
-pub fn upstream(
-    c: &Component,
-    cluster: &[ServiceId],
-    parts: &[Vec<ServiceId>],
-) -> Vec<std::collections::BTreeSet<usize>> {
-    let mut out: Vec<std::collections::BTreeSet<usize>> = Vec::with_capacity(parts.len());
-    for part in parts {
-        let mut up = std::collections::BTreeSet::new();
-        for t in inputs(c, cluster, part) {
-            if let Some(j) = parts.iter().position(|p| p.contains(&t)) {
+/// How a cluster is explored part by part: its parts, upstream first, and
+/// for each part its inputs, its cone and the interface it leaves to the
+/// later parts.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The parts, upstream first.
+    pub parts: Vec<Vec<ServiceId>>,
+    /// The inputs of each part.
+    pub inputs: Vec<Vec<ServiceId>>,
+    /// For each part, the earlier parts it depends on, directly or not.
+    upstream: Vec<BTreeSet<usize>>,
+    /// For each part, the services of it and of earlier parts that later
+    /// parts read.
+    interface: Vec<Vec<ServiceId>>,
+}
+
+impl Plan {
+    /// The plan of `cluster`.
+    pub fn new(c: &Component, cluster: &[ServiceId]) -> Plan {
+        let parts = parts(c, cluster);
+        let inputs: Vec<Vec<ServiceId>> = parts.iter().map(|p| inputs(c, cluster, p)).collect();
+        let part_of: BTreeMap<ServiceId, usize> = parts
+            .iter()
+            .enumerate()
+            .flat_map(|(k, p)| p.iter().map(move |&s| (s, k)))
+            .collect();
+        let mut upstream: Vec<BTreeSet<usize>> = Vec::with_capacity(parts.len());
+        for needs in &inputs {
+            let mut up = BTreeSet::new();
+            for j in needs.iter().filter_map(|t| part_of.get(t).copied()) {
                 up.insert(j);
-                if let Some(more) = out.get(j) {
-                    up.extend(more.iter().copied());
-                }
+                up.extend(upstream.get(j).into_iter().flatten().copied());
             }
+            upstream.push(up);
         }
-        out.push(up);
+        let mut read_later: BTreeSet<ServiceId> = BTreeSet::new();
+        let mut interface = vec![Vec::new(); parts.len()];
+        for k in (0..parts.len()).rev() {
+            interface[k] = read_later
+                .iter()
+                .copied()
+                .filter(|s| part_of.get(s).is_some_and(|&j| j <= k))
+                .collect();
+            read_later.extend(inputs[k].iter().copied());
+        }
+        Plan {
+            parts,
+            inputs,
+            upstream,
+            interface,
+        }
     }
-    out
+
+    /// Part `k` and every service upstream of it, sorted.
+    pub fn cone(&self, k: usize) -> Vec<ServiceId> {
+        let mut cone: Vec<ServiceId> = self.upstream[k]
+            .iter()
+            .flat_map(|&j| self.parts[j].iter().copied())
+            .chain(self.parts[k].iter().copied())
+            .collect();
+        cone.sort();
+        cone
+    }
+
+    /// The services of parts up to `k` that later parts read.
+    pub fn interface(&self, k: usize) -> &[ServiceId] {
+        &self.interface[k]
+    }
 }
 
 /// The services outside `part` whose instances it reads (`delays` or
@@ -340,28 +387,7 @@ fn determinize(
     max: usize,
 ) -> Option<(Vec<u64>, Vec<Vec<u32>>)> {
     let mut mark = vec![false; values.len()];
-    let mut closure = |mut seeds: Vec<StateId>| -> Vec<StateId> {
-        seeds.sort_unstable();
-        seeds.dedup();
-        for &p in &seeds {
-            mark[p as usize] = true;
-        }
-        let mut stack = seeds.clone();
-        while let Some(p) = stack.pop() {
-            for &q in &succ[p as usize] {
-                if values[q as usize] == values[p as usize] && !mark[q as usize] {
-                    mark[q as usize] = true;
-                    seeds.push(q);
-                    stack.push(q);
-                }
-            }
-        }
-        for &p in &seeds {
-            mark[p as usize] = false;
-        }
-        seeds.sort_unstable();
-        seeds
-    };
+    let mut closure = |seeds: Vec<StateId>| silent_closure(values, succ, &mut mark, seeds);
     let mut index: BTreeMap<Vec<StateId>, u32> = BTreeMap::new();
     let mut sets: Vec<Vec<StateId>> = vec![closure(vec![0])];
     index.insert(sets[0].clone(), 0);
@@ -400,6 +426,36 @@ fn determinize(
         next.push(out);
     }
     Some((value, next))
+}
+
+/// The states reachable from `seeds` by steps that keep the value, sorted
+/// (`mark` is all `false` before and after).
+fn silent_closure(
+    values: &[u64],
+    succ: &[Vec<StateId>],
+    mark: &mut [bool],
+    mut seeds: Vec<StateId>,
+) -> Vec<StateId> {
+    seeds.sort_unstable();
+    seeds.dedup();
+    for &p in &seeds {
+        mark[p as usize] = true;
+    }
+    let mut stack = seeds.clone();
+    while let Some(p) = stack.pop() {
+        for &q in &succ[p as usize] {
+            if values[q as usize] == values[p as usize] && !mark[q as usize] {
+                mark[q as usize] = true;
+                seeds.push(q);
+                stack.push(q);
+            }
+        }
+    }
+    for &p in &seeds {
+        mark[p as usize] = false;
+    }
+    seeds.sort_unstable();
+    seeds
 }
 
 /// Moore's partition refinement: states with the same value whose
@@ -627,15 +683,20 @@ mod tests {
     fn parts_follow_dependencies_upstream_first() {
         let c = chain();
         let all: Vec<ServiceId> = c.services.ids().collect();
-        let parts = parts(&c, &all);
-        assert_eq!(names(&c, &parts), [vec!["a"], vec!["b"], vec!["c", "d"]]);
-        let up = upstream(&c, &all, &parts);
-        assert_eq!(up[0].len(), 0);
-        assert_eq!(up[1].iter().copied().collect::<Vec<_>>(), [0]);
-        assert_eq!(up[2].iter().copied().collect::<Vec<_>>(), [0, 1]);
-        let inputs = inputs(&c, &all, &parts[2]);
-        assert_eq!(inputs.len(), 1, "only `b` is read by `c`");
-        assert_eq!(c.services[inputs[0]].name.name, "b");
+        let plan = Plan::new(&c, &all);
+        assert_eq!(
+            names(&c, &plan.parts),
+            [vec!["a"], vec!["b"], vec!["c", "d"]]
+        );
+        // Cones: each part with what it depends on, directly or not.
+        assert_eq!(
+            names(&c, &[plan.cone(0), plan.cone(2)]),
+            [vec!["a"], vec!["a", "b", "c", "d"]]
+        );
+        // Only `b` is read by `c`; `a` by `b`; interfaces carry them.
+        assert_eq!(names(&c, &plan.inputs), [vec![], vec!["a"], vec!["b"]]);
+        let interfaces: Vec<Vec<ServiceId>> = (0..3).map(|k| plan.interface(k).to_vec()).collect();
+        assert_eq!(names(&c, &interfaces), [vec!["a"], vec!["b"], vec![]]);
     }
 
     #[test]
