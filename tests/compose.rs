@@ -171,3 +171,46 @@ fn medium_components_agree_with_exhaustive_exploration() {
     assert!(compared >= 40, "only {compared} components compared");
     assert!(split >= 20, "only {split} components were split into parts");
 }
+
+/// Services a run proves things about, and what it proves about each:
+/// whether it starts and which of its codels run.
+fn proven(c: &Component, a: &Analysis) -> Vec<(String, bool, BTreeSet<String>)> {
+    c.services
+        .iter()
+        .filter(|(s, _)| !a.unproven.contains(s))
+        .map(|(s, svc)| {
+            let codels = a
+                .reached
+                .iter()
+                .filter(|&&k| c.codels[k].service == s)
+                .map(|&k| c.codel_label(k))
+                .collect();
+            (svc.name.name.clone(), a.started.contains(&s), codels)
+        })
+        .collect()
+}
+
+/// A limit that stops a later part leaves what earlier parts established:
+/// those services are proven, with the same facts whatever the limit.
+#[test]
+fn a_limit_in_a_later_part_keeps_the_earlier_parts() {
+    let mut cfg = GeneratorConfig::new(1, 20);
+    (cfg.codels_per_service, cfg.threads, cfg.init, cfg.autos) = (5, 3, true, 1);
+    let c = component(&cfg);
+    let run = |max_states| {
+        let limits = Limits {
+            max_states,
+            ..Limits::default()
+        };
+        analyse_with(&c, limits, true)
+    };
+    let (small, large) = (run(5_000), run(50_000));
+    assert!(small.stopped.is_some() && large.stopped.is_some());
+    assert!(small.parts > 0, "the component is explored part by part");
+    let (a, b) = (proven(&c, &small), proven(&c, &large));
+    assert!(!a.is_empty(), "earlier parts are proven");
+    assert!(a.len() < c.services.len(), "the stopped part is not");
+    for fact in &a {
+        assert!(b.contains(fact), "{fact:?} changes with the limit");
+    }
+}

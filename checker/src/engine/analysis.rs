@@ -266,6 +266,9 @@ struct Whole<'w> {
 /// Largest environment automaton kept between parts.
 const MAX_ENV_STATES: usize = 4096;
 
+/// Largest search for a concrete execution of one witness of a part.
+const CONCRETE_MAX_STATES: usize = 1_000_000;
+
 /// Explores a cluster part by part (see [`compose`]). Returns `false`, with
 /// `out` untouched, when the cluster has one part or a part's witness
 /// cannot be made concrete: the caller then explores the cluster whole.
@@ -339,7 +342,9 @@ fn explore_part(
         e.stopped,
     );
     let failed = std::cell::Cell::new(false);
-    let cap = budget.max_states.clamp(1, 2_000_000);
+    // Making witnesses concrete is trace production, not exploration: it
+    // has its own bound (past it, the cluster is explored whole).
+    let cap = CONCRETE_MAX_STATES;
     let config = |id: StateId| e.store_config(model, id).0;
     let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| match compose::concretize(
         model,
