@@ -141,7 +141,10 @@ fn compare(cfg: &GeneratorConfig) -> Option<u64> {
 #[test]
 fn small_components_agree_with_exhaustive_exploration() {
     let mut split = 0;
-    for seed in 0..300 {
+    // 385: a starvation whose blocker's loop needed a thread another
+    // service's running codel held; 454: an auto service delayed for ever
+    // (its dead-service trace has no request).
+    for seed in (0..300).chain([385, 454]) {
         if compare(&GeneratorConfig::small(seed)).is_some_and(|p| p > 0) {
             split += 1;
         }
@@ -154,7 +157,8 @@ fn small_components_agree_with_exhaustive_exploration() {
 #[test]
 fn medium_components_agree_with_exhaustive_exploration() {
     let (mut compared, mut split) = (0, 0);
-    for seed in 0..60 {
+    // 161: a starvation whose blocker's loop needed a free thread.
+    for seed in (0..60).chain([161]) {
         let mut cfg = GeneratorConfig::new(seed, 5 + (seed % 3) as usize);
         cfg.codels_per_service = 2 + (seed % 2) as usize;
         cfg.threads = 1 + (seed % 2) as usize;

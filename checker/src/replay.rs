@@ -386,7 +386,8 @@ pub struct ReplayEnd {
     /// Services that started (or, without start codel, completed) at some
     /// step.
     pub started: BTreeSet<ServiceId>,
-    /// What the last request of each requested service led to.
+    /// What the last request of each requested service led to (for an
+    /// auto service, its acknowledgment when initialisation completes).
     pub fates: BTreeMap<ServiceId, Fate>,
     /// The 1-based number of the violation step.
     pub violation_step: usize,
@@ -1024,6 +1025,8 @@ impl<'c> Replayer<'c> {
             ));
         }
         self.new_pending(s, BTreeSet::new());
+        // No client requests an auto service: its acknowledgment is its fate.
+        self.fates.insert(s, Fate::Acknowledged);
         Ok(())
     }
 

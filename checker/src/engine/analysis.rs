@@ -649,7 +649,13 @@ pub(crate) fn replay(
     }
     let mut loop_start = None;
     if let Some(s) = looping.and_then(|s| global.member_index(s).map(|i| (s, i))) {
-        let (before, cycle) = local_loop(global, &cfg, s.1);
+        let (mut before, mut cycle) = local_loop(global, &cfg, s.1);
+        if !applicable(global, &cfg, before.iter().chain(&cycle)) {
+            // Another service's codel holds the thread or a lock the loop
+            // needs: let the running codels finish first.
+            settle(global, &mut cfg, s.1, &mut steps);
+            (before, cycle) = local_loop(global, &cfg, s.1);
+        }
         for a in before {
             if let Some(next) = global.apply(&cfg, a, &mut Some(&mut steps)) {
                 cfg = next;
@@ -669,6 +675,43 @@ pub(crate) fn replay(
     }
     steps.push(last);
     Trace { steps, loop_start }
+}
+
+/// Whether `actions` can be applied one after the other from `cfg`.
+fn applicable<'a>(
+    sys: &System<'_>,
+    cfg: &Config,
+    actions: impl Iterator<Item = &'a Action>,
+) -> bool {
+    let mut cur = cfg.clone();
+    for &a in actions {
+        match sys.apply(&cur, a, &mut None) {
+            Some(next) => cur = next,
+            None => return false,
+        }
+    }
+    true
+}
+
+/// Finishes the codel every member but `keep` is running, each the first
+/// way that leads to another codel (else its first way), recording the
+/// steps: what a starving service waits for only needs its blocker to go
+/// on looping, which the others' running codels may prevent.
+fn settle(sys: &System<'_>, cfg: &mut Config, keep: usize, steps: &mut Vec<TraceStep>) {
+    for j in (0..sys.len()).filter(|&j| j != keep) {
+        if !sys.position(cfg, j).is_running() {
+            continue;
+        }
+        let ways = &sys.machine_of(j).finish[usize::from(cfg.main[j])];
+        let k = ways
+            .iter()
+            .position(|f| matches!(f.effect, Effect::Goto(_)))
+            .unwrap_or(0);
+        let action = Action::Finish(sys.service(j), u8::try_from(k).unwrap_or(0));
+        if let Some(next) = sys.apply(cfg, action, &mut Some(steps)) {
+            *cfg = next;
+        }
+    }
 }
 
 /// A path of codel steps of member `i` from its position to a position on a
