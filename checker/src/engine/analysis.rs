@@ -270,8 +270,9 @@ const MAX_ENV_STATES: usize = 4096;
 const CONCRETE_MAX_STATES: usize = 1_000_000;
 
 /// Explores a cluster part by part (see [`compose`]). Returns `false`, with
-/// `out` untouched, when the cluster has one part or a part's witness
-/// cannot be made concrete: the caller then explores the cluster whole.
+/// `out` untouched, when the cluster has one part, an interface is too wide,
+/// an environment too large, or a part's witness cannot be made concrete:
+/// the caller then explores the cluster whole.
 fn explore_parts(
     w: &Whole<'_>,
     cluster: &[ServiceId],
@@ -279,7 +280,7 @@ fn explore_parts(
     out: &mut Analysis,
 ) -> bool {
     let plan = compose::Plan::new(w.c, cluster);
-    if plan.parts.len() < 2 {
+    if plan.parts.len() < 2 || !plan.fits() {
         return false;
     }
     let mut env = Env::empty();

@@ -133,6 +133,12 @@ impl Plan {
     pub fn interface(&self, k: usize) -> &[ServiceId] {
         &self.interface[k]
     }
+
+    /// Whether every interface fits an environment value (two bits per
+    /// service in a `u64`: at most [`MAX_INTERFACE`] services).
+    pub fn fits(&self) -> bool {
+        self.interface.iter().all(|i| i.len() <= MAX_INTERFACE)
+    }
 }
 
 /// The services outside `part` whose instances it reads (`delays` or
@@ -153,6 +159,10 @@ pub fn inputs(c: &Component, cluster: &[ServiceId], part: &[ServiceId]) -> Vec<S
     out.sort();
     out
 }
+
+/// Most services an interface holds (an environment value has two bits per
+/// service in a `u64`).
+pub const MAX_INTERFACE: usize = 32;
 
 /// A deterministic automaton of the interface values an upstream can show:
 /// each state has the current value (two bits per service of `layout`:
@@ -183,6 +193,9 @@ impl Env {
     /// The instance of `layout[pos]` in `value`: none, or whether it may
     /// never end.
     pub fn instance(value: u64, pos: usize) -> Option<bool> {
+        if pos >= MAX_INTERFACE {
+            return None;
+        }
         (value >> (2 * pos) & 1 == 1).then_some(value >> (2 * pos + 1) & 1 == 1)
     }
 
@@ -311,7 +324,7 @@ pub fn interface_value(
     upstream: Option<(&Env, u32)>,
 ) -> u64 {
     let mut value = 0;
-    for (pos, &s) in layout.iter().enumerate() {
+    for (pos, &s) in layout.iter().enumerate().take(MAX_INTERFACE) {
         let instance = match sys.member_index(s).filter(|&i| !sys.is_input(i)) {
             Some(i) => System::has_instance(cfg, i).then(|| sys.may_never_end(cfg, i)),
             None => match sys.member_index(s) {
@@ -652,6 +665,16 @@ mod tests {
             .expect("a component")
     }
 
+    /// The resolved component, without exploring it.
+    fn resolved(body: &str) -> Component {
+        let options = crate::CheckOptions::new().behaviour(false);
+        let text = format!("{HEADER}{body}");
+        let loader = genom_parser::MemoryLoader::new();
+        crate::check_source(std::path::Path::new("t.gen"), text, &loader, &options)
+            .component
+            .expect("a component")
+    }
+
     fn svc(name: &str, rules: &str) -> String {
         format!(
             "service {name} {{ thread: main; {rules}\n\
@@ -697,6 +720,23 @@ mod tests {
         assert_eq!(names(&c, &plan.inputs), [vec![], vec!["a"], vec!["b"]]);
         let interfaces: Vec<Vec<ServiceId>> = (0..3).map(|k| plan.interface(k).to_vec()).collect();
         assert_eq!(names(&c, &interfaces), [vec!["a"], vec!["b"], vec![]]);
+    }
+
+    #[test]
+    fn interfaces_wider_than_an_environment_value_do_not_fit() {
+        // 33 services each delaying `sink`: `sink`'s part reads all of them.
+        let mut body: String = (0..33)
+            .map(|i| svc(&format!("u{i}"), "delays: sink;"))
+            .collect();
+        body.push_str(&svc("sink", ""));
+        let c = resolved(&body);
+        let all: Vec<ServiceId> = c.services.ids().collect();
+        let plan = Plan::new(&c, &all);
+        assert_eq!(plan.parts.len(), 34);
+        assert!(!plan.fits());
+        let fewer = resolved(&[svc("u0", "delays: sink;"), svc("sink", "")].concat());
+        let all: Vec<ServiceId> = fewer.services.ids().collect();
+        assert!(Plan::new(&fewer, &all).fits());
     }
 
     #[test]
