@@ -12,7 +12,7 @@ use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
-use super::store::StateId;
+use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 
 /// Pending instances waiting on each other forever.
@@ -174,14 +174,7 @@ fn pre_init(
     let sys = System::new(c, b, &[init], true);
     let mut found = Found::default();
     let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
-    out.account(
-        budget,
-        e.store.len(),
-        e.transitions,
-        e.elapsed,
-        e.store.bytes_per_state(),
-        e.stopped,
-    );
+    out.account(budget, &e);
     let prefix = found
         .init_success
         .map(|id| e.store.path(id))
@@ -225,15 +218,7 @@ fn explore_cluster(
     }
     let mut found = Found::default();
     let e = explore(sys, *budget, |id, cfg| visit(sys, id, cfg, &mut found));
-    out.account(
-        budget,
-        e.store.len(),
-        e.transitions,
-        e.elapsed,
-        e.store.bytes_per_state(),
-        e.stopped,
-    );
-    out.reduced += e.reduced;
+    out.account(budget, &e);
     if e.stopped.is_some() {
         out.unproven.extend(sys.services());
     }
@@ -334,14 +319,7 @@ fn explore_part(
     let sys = &model.sys;
     let mut found = Found::default();
     let e = explore(model, *budget, |id, st| visit(sys, id, &st.0, &mut found));
-    out.account(
-        budget,
-        e.store.len(),
-        e.transitions,
-        e.elapsed,
-        e.store.bytes_per_state(),
-        e.stopped,
-    );
+    out.account(budget, &e);
     let failed = std::cell::Cell::new(false);
     // Making witnesses concrete is trace production, not exploration: it
     // has its own bound (past it, the cluster is explored whole).
@@ -399,22 +377,20 @@ impl Analysis {
 
     /// Adds the figures of one exploration and charges its states to the
     /// remaining budget.
-    pub(crate) fn account(
+    pub(crate) fn account<A: Copy, Z: Subsumes>(
         &mut self,
         budget: &mut Limits,
-        states: usize,
-        transitions: u64,
-        elapsed: Duration,
-        bps: f64,
-        stopped: Option<Stop>,
+        e: &Exploration<A, Z>,
     ) {
+        let states = e.store.len();
         self.states += states as u64;
-        self.transitions += transitions;
-        self.elapsed += elapsed;
-        self.bytes_per_state = self.bytes_per_state.max(bps);
+        self.transitions += e.transitions;
+        self.elapsed += e.elapsed;
+        self.reduced += e.reduced;
+        self.bytes_per_state = self.bytes_per_state.max(e.store.bytes_per_state());
         budget.max_states = budget.max_states.saturating_sub(states).max(1);
-        if stopped.is_some() {
-            self.stopped = self.stopped.or(stopped);
+        if e.stopped.is_some() {
+            self.stopped = self.stopped.or(e.stopped);
         }
     }
 }

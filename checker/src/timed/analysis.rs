@@ -117,14 +117,7 @@ fn explore_timed(
         visit(&ts.sys, id, &st.cfg, &mut found);
         tvisit(&ts, id, st, &mut tfound);
     });
-    out.account(
-        budget,
-        e.store.len(),
-        e.transitions,
-        e.elapsed,
-        e.store.bytes_per_state(),
-        e.stopped,
-    );
+    out.account(budget, &e);
     if e.stopped.is_some() {
         out.unproven.extend(members.iter().copied());
     }
