@@ -105,9 +105,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     ) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
         let hash = self.hash(key);
-        let (words, width) = (&self.words, self.width);
-        let eq = |&id: &StateId| words[id as usize * width..(id as usize + 1) * width] == *key;
-        let head = self.table.find(hash, eq).copied();
+        let head = self.head(key, hash);
         let mut cur = head.unwrap_or(NONE);
         while cur != NONE {
             if zone.subsumed_by(&self.zones[cur as usize]) {
@@ -150,12 +148,18 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         (id, true)
     }
 
-    /// The first stored state with these words, if any (for untimed models,
-    /// the state itself).
+    /// The newest stored state with these words, if any (for untimed models,
+    /// the only one).
     pub fn find(&self, key: &[u64]) -> Option<StateId> {
+        self.head(key, self.hash(key))
+    }
+
+    /// The newest stored state with these words (`hash` is theirs): the
+    /// head of their chain.
+    fn head(&self, key: &[u64], hash: u64) -> Option<StateId> {
         let (words, width) = (&self.words, self.width);
         let eq = |&id: &StateId| words[id as usize * width..(id as usize + 1) * width] == *key;
-        self.table.find(self.hash(key), eq).copied()
+        self.table.find(hash, eq).copied()
     }
 
     /// Whether a later state's zone includes this one's.
