@@ -134,19 +134,12 @@ struct Figures {
 /// in `variant`; the state cap is shared by the clusters.
 fn explore_all(c: &Component, variant: Variant) -> Figures {
     let b = Behaviour::new(c);
-    let init = c.init_service();
     let mut f = Figures {
         complete: true,
         ..Figures::default()
     };
-    for cluster in c.timed_clusters() {
-        let linked = init.is_some_and(|i| cluster.contains(&i));
-        let mut members = cluster.clone();
-        if let Some(i) = init.filter(|_| !linked) {
-            members.push(i);
-            members.sort();
-        }
-        let mut ts = TimedSystem::new(c, &b, &members, !linked);
+    for (members, frozen) in genom_checker::timed::timed_explorations(c) {
+        let mut ts = TimedSystem::new(c, &b, &members, frozen);
         ts.extrapolate = variant != Variant::NoExtrapolation;
         let limits = Limits {
             max_states: MAX_STATES.saturating_sub(f.states).max(1),

@@ -651,15 +651,8 @@ fn observe(c: &Component, limits: Limits) -> Observed {
     }
     seen.explored = true;
     let b = Behaviour::new(c);
-    let init = c.init_service();
-    for cluster in c.timed_clusters() {
-        let linked = init.is_some_and(|i| cluster.contains(&i));
-        let mut members = cluster.clone();
-        if let Some(i) = init.filter(|_| !linked) {
-            members.push(i);
-            members.sort();
-        }
-        let ts = TimedSystem::new(c, &b, &members, !linked);
+    for (members, frozen) in crate::timed::timed_explorations(c) {
+        let ts = TimedSystem::new(c, &b, &members, frozen);
         let mut codels: Vec<CodelId> = Vec::new();
         let _ = explore(&ts, limits, |_, st| {
             for (k, t) in ts.threads.iter().enumerate() {

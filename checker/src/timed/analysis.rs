@@ -79,21 +79,33 @@ struct TFound {
     acknowledged: BTreeSet<ServiceId>,
 }
 
+/// The explorations of the timed model: the members of each timed cluster,
+/// with the `init` service added when it is not one of them, and whether it
+/// was added (it is then frozen once it has succeeded: see
+/// [`TimedSystem::new`]).
+pub fn timed_explorations(c: &Component) -> Vec<(Vec<ServiceId>, bool)> {
+    let init = c.init_service();
+    c.timed_clusters()
+        .into_iter()
+        .map(|mut members| {
+            let added = init.filter(|i| !members.contains(i));
+            if let Some(i) = added {
+                members.push(i);
+                members.sort();
+            }
+            (members, added.is_some())
+        })
+        .collect()
+}
+
 /// Explores the component's timed model.
 pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
     let b = Behaviour::new(c);
     let mut out = Analysis::default();
     let mut facts = TimedFacts::default();
     let mut budget = limits;
-    let init = c.init_service();
-    for cluster in c.timed_clusters() {
-        let linked = init.is_some_and(|i| cluster.contains(&i));
-        let mut members = cluster.clone();
-        if let Some(i) = init.filter(|_| !linked) {
-            members.push(i);
-            members.sort();
-        }
-        explore_timed(c, &b, &members, !linked, &mut budget, &mut out, &mut facts);
+    for (members, frozen) in timed_explorations(c) {
+        explore_timed(c, &b, &members, frozen, &mut budget, &mut out, &mut facts);
     }
     let all: Vec<ServiceId> = c.services.ids().collect();
     let global = System::new(c, &b, &all, false);

@@ -8,4 +8,6 @@ pub mod clocks;
 pub mod model;
 pub mod trace;
 
-pub use analysis::{CodelOverrun, Exceeded, Overrun, TimedFacts, analyse_timed};
+pub use analysis::{
+    CodelOverrun, Exceeded, Overrun, TimedFacts, analyse_timed, timed_explorations,
+};
