@@ -70,7 +70,8 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
     }
 }
 
-fn summary_line(report: &FileReport<'_>) -> String {
+/// The summary line of one file: counts, then the exploration figures.
+pub(super) fn summary_line(report: &FileReport<'_>) -> String {
     let mut line = human::render_summary(report.path, report.counts());
     if let Some(s) = report.statistics {
         line.push_str(&format!(

@@ -164,16 +164,7 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
         }
     }
     if !output.quiet {
-        out.push_str(&human::render_summary(shown, report.counts()));
-        if let Some(s) = report.statistics {
-            out.push_str(&format!(
-                " ({} states, {} transitions, {:.1} ms{})",
-                s.states,
-                s.transitions,
-                s.time_ms,
-                if s.complete { "" } else { ", incomplete" }
-            ));
-        }
+        out.push_str(&super::check::summary_line(&report));
         out.push('\n');
     }
     out
