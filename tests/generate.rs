@@ -8,6 +8,8 @@ use assert_cmd::Command;
 use predicates::prelude::*;
 use serde_json::Value;
 
+mod common;
+
 fn genom_check() -> Command {
     let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
     cmd.env("NO_COLOR", "1");
@@ -145,13 +147,7 @@ fn generated_components_check_with_behavioural_verdicts_only() {
                 .expect("runs");
             let json: Value = serde_json::from_slice(&out.stdout).expect("one JSON document");
             let file = &json["files"][0];
-            let errors: Vec<&str> = file["diagnostics"]
-                .as_array()
-                .expect("diagnostics")
-                .iter()
-                .filter(|d| d["severity"] == "error")
-                .filter_map(|d| d["code"].as_str())
-                .collect();
+            let errors = common::error_codes(file);
             let stats = &file["statistics"];
             eprintln!(
                 "generate --seed {seed} {}: exit {:?}, errors {errors:?}, {} states",

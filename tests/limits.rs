@@ -13,6 +13,8 @@ use std::time::Instant;
 use assert_cmd::Command;
 use serde_json::Value;
 
+mod common;
+
 fn genom_check() -> Command {
     let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
     cmd.env("NO_COLOR", "1");
@@ -237,13 +239,7 @@ fn check_huge(name: &str, text: &str) -> String {
     let started = Instant::now();
     let (code, file) = check_json(&["--max-states", "100000", "--timeout", "20s"], &path);
     let elapsed = started.elapsed();
-    let errors: Vec<&str> = file["diagnostics"]
-        .as_array()
-        .expect("diagnostics")
-        .iter()
-        .filter(|d| d["severity"] == "error")
-        .filter_map(|d| d["code"].as_str())
-        .collect();
+    let errors = common::error_codes(&file);
     let stats = &file["statistics"];
     let figures = format!(
         "{name}: {lines} lines, exit {code:?}, {} states, complete {}, {:.1} s, errors {errors:?}",

@@ -113,3 +113,14 @@ pub fn changed_lines(a: &[String], b: &[String]) -> usize {
     }
     only_a + rest.len()
 }
+
+/// The codes of the errors of one file of a JSON report.
+pub fn error_codes(file: &serde_json::Value) -> Vec<&str> {
+    file["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .filter(|d| d["severity"] == "error")
+        .filter_map(|d| d["code"].as_str())
+        .collect()
+}
