@@ -242,6 +242,16 @@ const TWINS: &[(&str, &str, Code)] = &[
         "init-ends-within-its-max-time.gen",
         Code::DeadService,
     ),
+    (
+        "max-time-exceeded.waits-for-a-looping-watchdog.gen",
+        "looping-watchdog-fires-on-time.gen",
+        Code::MaxTimeExceeded,
+    ),
+    (
+        "unreachable-codel.looping-watchdog-fires-late.gen",
+        "looping-watchdog-fires-early.gen",
+        Code::UnreachableCodel,
+    ),
 ];
 
 #[test]
@@ -469,8 +479,9 @@ fn max_time_watchdog_on_a_servo_loop() {
     // codel within the period, then `brake` runs at the next wake-up.
     let period = 10_000_000;
     assert_eq!(format_ns(period * 2), "20ms");
-    // The watchdog fires at any time for a looping service (no clock), so
-    // `brake` is reachable and no `max-time-exceeded` is claimed.
+    // The watchdog interrupts the looping service (at the max-time), so
+    // `brake` is reachable, and a looping service's max-time is a watchdog
+    // bound, not a deadline: no `max-time-exceeded` is claimed.
     assert!(
         !result
             .diagnostics
@@ -1254,4 +1265,111 @@ fn the_late_instant_is_after_the_deadline_with_a_nanosecond_unit() {
         end.last_ns, 12_000_000,
         "the first whole nanosecond after the deadline"
     );
+}
+
+// ------------------------------------------- watchdogs of looping services
+
+/// The instant of the first step `event` of `service` in `trace`.
+fn instant_of(trace: &Trace, event: Event, service: &str) -> (usize, u64) {
+    trace
+        .steps
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.event == event && s.service.as_deref() == Some(service))
+        .and_then(|(k, s)| Some((k, s.time_ns?)))
+        .expect("the step is in the trace")
+}
+
+/// `poll` loops without bound; its watchdog fires exactly 75 ms after its
+/// acknowledgment (not later: the twin with 120 ms is clean), so `user`
+/// misses 100 ms but not 120 ms. The trace shows the watchdog on time, and
+/// the independent timed checker rejects it 1 ms early or late.
+#[test]
+fn the_watchdog_of_a_looping_service_fires_exactly_at_its_max_time() {
+    let path = common::invalid("max-time-exceeded.waits-for-a-looping-watchdog.gen");
+    let result = common::check(&path);
+    let report = common::render(&path, &result);
+    let d = the(
+        &result,
+        Code::MaxTimeExceeded,
+        "`user` can miss its max-time of 100ms",
+        &report,
+    );
+    let trace = d
+        .trace
+        .as_ref()
+        .expect("a max-time-exceeded verdict has a trace");
+    let c = common::component(&result);
+    check_timed(c, trace, TimedClaim::LateService("user")).expect("a timed execution");
+    replay(c, trace).expect("the untimed replay accepts it");
+    let (_, ack) = instant_of(trace, Event::Acknowledge, "poll");
+    let (k, fired) = instant_of(trace, Event::Watchdog, "poll");
+    assert_eq!(fired - ack, 75_000_000, "{report}");
+    for shifted in [fired - 1_000_000, fired + 1_000_000] {
+        let mut wrong = trace.clone();
+        wrong.steps[k].time_ns = Some(shifted);
+        let why = check_timed(c, &wrong, TimedClaim::LateService("user"))
+            .expect_err("a watchdog off its deadline is rejected");
+        assert!(why.contains("watchdog"), "{why}");
+    }
+    let clean = common::check(&common::valid("looping-watchdog-fires-on-time.gen"));
+    assert!(
+        !clean
+            .diagnostics
+            .iter()
+            .any(|d| d.code == Code::MaxTimeExceeded),
+        "{}",
+        common::render(&common::valid("looping-watchdog-fires-on-time.gen"), &clean)
+    );
+}
+
+/// The issue's example verbatim: nothing but the watchdog interrupts
+/// `spin`, 40 ms after its acknowledgment, long after its start codel ran:
+/// `soon` is unreachable, `later` is not.
+#[test]
+fn an_inter_codel_only_an_early_watchdog_would_run_is_unreachable() {
+    let src = "component w2 { category: default; lang: C; }
+thread t { period: 10ms; }
+service spin { thread: t; max-time: 40ms;
+  start codel { exec: s(); max-time: 1ms; on-inter: soon; next: loop; }
+  exec codel loop { exec: s(); max-time: 1ms; on-inter: later; next: loop; }
+  inter codel soon { exec: c(); max-time: 1ms; next: end; }
+  inter codel later { exec: c(); max-time: 1ms; next: end; } }
+";
+    let result = check_inline(src);
+    let unreachable: Vec<&str> = result
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::UnreachableCodel)
+        .map(|d| d.message.as_str())
+        .collect();
+    assert_eq!(
+        unreachable,
+        ["inter codel `soon` of service `spin` is never reached in any execution"]
+    );
+}
+
+/// Auto services that delay and forbid each other all start when the
+/// component starts (they are never pending): no deadlock, starvation or
+/// dead service, and no `acknowledge` step for them in any trace.
+#[test]
+fn auto_services_start_whatever_they_say_about_each_other() {
+    for name in [
+        "autos-delay-each-other.gen",
+        "auto-forbidden-and-delayed-by-auto.gen",
+    ] {
+        let path = common::valid(name);
+        let result = common::check(&path);
+        let report = common::render(&path, &result);
+        for code in [Code::Deadlock, Code::Starvation, Code::DeadService] {
+            assert!(
+                !result.diagnostics.iter().any(|d| d.code == code),
+                "{name}: no `{code}`:\n{report}"
+            );
+        }
+        assert!(
+            result.statistics.as_ref().is_some_and(|s| s.complete),
+            "{name}"
+        );
+    }
 }

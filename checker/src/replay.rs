@@ -61,8 +61,10 @@
 //!   instance.
 //! - When initialisation completes (at `component-start` without an `init`
 //!   service, else when the `init` service replies `end`), every `auto`
-//!   service is acknowledged (`acknowledge` with no request) before
-//!   anything else happens.
+//!   service starts (`start` with no request: it becomes active at its start
+//!   codel, or completes at once without one) before anything else happens,
+//!   whatever `delays` or `forbids` the autos list about each other: autos
+//!   are never pending.
 //! - `wake-up` and `delay` change nothing in this untimed reading; `time_ns`
 //!   must not decrease.
 //! - `violation` is the last step, and there is one.
@@ -657,7 +659,7 @@ impl<'c> Replayer<'c> {
         }
         if let Some(&a) = self.autos_due.first() {
             return Err(format!(
-                "initialisation is complete: auto service `{}` must be acknowledged before anything else",
+                "initialisation is complete: auto service `{}` must start before anything else",
                 self.name(a)
             ));
         }
@@ -964,12 +966,7 @@ impl<'c> Replayer<'c> {
     fn acknowledge(&mut self, step: &TraceStep) -> StepResult {
         self.check_thread(step, "control")?;
         let s = self.service_of(step)?;
-        let auto_due = self.autos_due.contains(&s);
-        if let Some(r) = self
-            .request
-            .clone()
-            .filter(|r| !(auto_due && r.service != s && r.in_control_codel(self.c)))
-        {
+        if let Some(r) = self.request.clone() {
             if r.service != s {
                 return Err(format!(
                     "the open request is for `{}`, not `{}`",
@@ -1011,23 +1008,10 @@ impl<'c> Replayer<'c> {
             self.fates.insert(s, Fate::Acknowledged);
             return Ok(());
         }
-        let Some(at) = self.autos_due.iter().position(|&a| a == s) else {
-            return Err(format!(
-                "`{}` is acknowledged without a request: only auto services are, when initialisation completes",
-                self.name(s)
-            ));
-        };
-        self.autos_due.remove(at);
-        if self.state.has_instance(s) {
-            return Err(format!(
-                "auto service `{}` already has an instance",
-                self.name(s)
-            ));
-        }
-        self.new_pending(s, BTreeSet::new());
-        // No client requests an auto service: its acknowledgment is its fate.
-        self.fates.insert(s, Fate::Acknowledged);
-        Ok(())
+        Err(format!(
+            "`{}` is acknowledged without a request: auto services are not acknowledged, they start when initialisation completes",
+            self.name(s)
+        ))
     }
 
     fn new_pending(&mut self, s: ServiceId, waits_for: BTreeSet<InstanceId>) {
@@ -1042,7 +1026,20 @@ impl<'c> Replayer<'c> {
 
     fn start(&mut self, step: &TraceStep) -> StepResult {
         let s = self.service_of(step)?;
-        if let Some(why) = self.start_blocker(s) {
+        if let Some(at) = self.autos_due.iter().position(|&a| a == s) {
+            // An auto service is not a request: it gets its instance and
+            // starts at once, whatever delays or forbids it (section 3).
+            self.autos_due.remove(at);
+            if self.state.has_instance(s) {
+                return Err(format!(
+                    "auto service `{}` already has an instance",
+                    self.name(s)
+                ));
+            }
+            self.new_pending(s, BTreeSet::new());
+            // No client requests an auto service: its start is its fate.
+            self.fates.insert(s, Fate::Acknowledged);
+        } else if let Some(why) = self.start_blocker(s) {
             return Err(format!("`{}` cannot start: {why}", self.name(s)));
         }
         let codel = self.codel_of(s, step)?;

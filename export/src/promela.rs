@@ -168,6 +168,11 @@ fn declarations(out: &mut String, c: &Component) {
         "bit init_done = {};  /* the init service has completed successfully */",
         u8::from(init.is_none())
     );
+    let _ = writeln!(
+        out,
+        "bit autos_due = {};  /* initialisation completed: the auto services start now */",
+        u8::from(init.is_none())
+    );
     out.push_str("bit settle = 1;     /* urgent starts are due (engine runs next) */\n\n");
     for (id, s) in c.services.iter() {
         let i = id.index();
@@ -197,11 +202,9 @@ fn declarations(out: &mut String, c: &Component) {
                 codels.join(", ")
             }
         );
-        let pending = s.kind == ServiceKind::Auto && init.is_none();
         let _ = writeln!(
             out,
-            "byte mode_{i}; byte at_{i}; byte oi_{i}; bit pend_{i} = {};",
-            u8::from(pending)
+            "byte mode_{i}; byte at_{i}; byte oi_{i}; bit pend_{i};"
         );
         for t in targets(c, id) {
             let _ = writeln!(
@@ -296,19 +299,27 @@ fn inlines(out: &mut String, c: &Component) {
     }
 }
 
-/// For the init service: its first success completes initialisation and
-/// acknowledges every auto service.
+/// For the init service: its first success completes initialisation, and
+/// the auto services are due to start (the engine starts them next).
 fn init_completes(c: &Component, id: ServiceId) -> String {
     if c.init_service() != Some(id) {
         return String::new();
     }
-    let mut acks = String::from("init_done = 1");
+    ";\n  if\n  :: !init_done -> init_done = 1; autos_due = 1\n  :: else -> skip\n  fi".to_owned()
+}
+
+/// The engine's first duty once initialisation completes: every auto
+/// service starts at once, whatever `delays` or `forbids` it lists about
+/// the others (autos are never pending).
+fn start_autos(c: &Component) -> String {
+    let mut body = String::from("autos_due = 0");
     for (a, s) in c.services.iter() {
         if s.kind == ServiceKind::Auto {
-            let _ = write!(acks, "; pend_{} = 1", a.index());
+            let i = a.index();
+            let _ = write!(body, "; started_{i} = 1; {}", start(c, a));
         }
     }
-    format!(";\n  if\n  :: !init_done -> {acks}\n  :: else -> skip\n  fi")
+    format!("if :: autos_due -> {body} :: else -> skip fi;\n       ")
 }
 
 /// The lock condition of a codel: every structure it writes is free, every
@@ -595,7 +606,10 @@ fn start(c: &Component, s: ServiceId) -> String {
 
 /// The urgent starts after every transition, then the deadlock assertion.
 fn engine(out: &mut String, c: &Component) {
-    let mut body = String::from("atomic { settle ->\n       do\n       :: ");
+    let mut body = format!(
+        "atomic {{ settle ->\n       {}do\n       :: ",
+        start_autos(c)
+    );
     let mut any = Vec::new();
     for s in c.services.ids() {
         let cond = can_start(c, s);

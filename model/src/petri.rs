@@ -527,23 +527,30 @@ impl<'a> Builder<'a> {
     }
 
     /// Every service idle; without an init service, initialisation is done
-    /// and the autos are acknowledged.
+    /// and the autos are active at their start codel (autos are never
+    /// pending; one without start codel has completed at once).
     fn initial_marking(&mut self, has_init: bool) {
+        let started: Vec<(ServiceId, Option<PosId>)> = if has_init {
+            Vec::new()
+        } else {
+            self.autos()
+                .into_iter()
+                .map(|a| (a, self.machine(a).start))
+                .collect()
+        };
         for s in self.c.services.ids() {
-            let idle = self.idle(s);
-            self.mark(idle);
+            let place = match started.iter().find(|(a, _)| *a == s) {
+                Some(&(a, Some(p))) => self.pos(a, p),
+                _ => self.idle(s),
+            };
+            self.mark(place);
         }
-        if has_init {
-            let p = self.net.init_not_done;
-            self.mark(p);
-            return;
-        }
-        let p = self.net.init_done;
+        let p = if has_init {
+            self.net.init_not_done
+        } else {
+            self.net.init_done
+        };
         self.mark(p);
-        for a in self.autos() {
-            let p = self.sp(a).pending;
-            self.mark(p);
-        }
     }
 
     fn autos(&self) -> Vec<ServiceId> {
@@ -862,10 +869,14 @@ impl<'a> Builder<'a> {
         first.label.push_str("; initialisation completes");
         first = first.pre(self.net.init_not_done).post(self.net.init_done);
         for a in self.autos() {
-            first = first.post(self.sp(a).pending);
-            first
-                .label
-                .push_str(&format!(", {} is acknowledged", self.name(a)));
+            let Some(p) = self.machine(a).start else {
+                first
+                    .label
+                    .push_str(&format!(", {} completes at once", self.name(a)));
+                continue;
+            };
+            first = first.pre(self.idle(a)).post(self.pos(a, p));
+            first.label.push_str(&format!(", {} starts", self.name(a)));
         }
         self.add(first);
         self.add(t.read(self.net.init_done));

@@ -946,6 +946,9 @@ struct Svc {
     placement: Option<(usize, usize)>,
     /// Clocked watchdog: clock and max-time in units.
     watch: Option<(ClockId, i64)>,
+    /// The watchdog fires exactly at the max-time (`on` has the invariant);
+    /// else at any time from the horizon (`watch`'s bound) on.
+    watch_exact: bool,
     /// 1 while the clocked watchdog is `on` (its location as a variable,
     /// so that the urgency of arming and disarming is an integer predicate).
     armed: Option<VarId>,
@@ -1380,6 +1383,7 @@ impl<'a> Builder<'a> {
                     .unwrap_or_default(),
                 placement: None,
                 watch: None,
+                watch_exact: true,
                 armed: None,
                 watchdog: svc.max_time.is_some(),
                 ctl_wcet,
@@ -1525,14 +1529,15 @@ impl<'a> Builder<'a> {
         for &s in &all {
             let svc = &c.services[s];
             let Some(mt) = svc.max_time else { continue };
-            if self.machine(s).active_loop {
-                continue;
-            }
             // The engine computes the max-time in its cluster's unit
             // (exact for services with a start codel; truncated otherwise).
             let cl = &clusters[s.0 as usize];
             let cu = unit_ns(c, cl);
-            let max = units(mt.ns, cu).saturating_mul(i64::try_from(cu / unit.max(1)).unwrap_or(1));
+            // As the engine: exact, or from the horizon on for a looping
+            // service whose max-time is beyond it.
+            let (ns, exact) = c.watchdog_instant_ns(s, self.machine(s).active_loop, cl);
+            let max = units(ns, cu).saturating_mul(i64::try_from(cu / unit.max(1)).unwrap_or(1));
+            self.svcs[index(s)].watch_exact = exact;
             max_const = max_const.max(max);
             let clock = self.clock(
                 &format!("{}_watch", svc.name.name),
@@ -1858,13 +1863,19 @@ impl<'a> Builder<'a> {
         out
     }
 
+    /// Initialisation completes: every auto service becomes active at its
+    /// start codel (never pending; one without start codel completes at
+    /// once, which changes nothing here).
     fn start_autos(&self) -> Vec<Stmt> {
         let mut out = Vec::new();
         for a in self.svcs.iter().filter(|a| a.auto) {
+            let Some(p) = self.machine(a.id).start else {
+                continue;
+            };
             Stmt::push_if(
                 &mut out,
                 self.no_instance(a.id),
-                vec![Stmt::set(a.pend, Expr::int(1))],
+                vec![Stmt::set(a.pos, Expr::int(self.value(a.id, p)))],
                 Vec::new(),
             );
         }
@@ -2893,18 +2904,18 @@ impl<'a> Builder<'a> {
         let svc = &c.services[s];
         let Some(mt) = svc.max_time else { return };
         let v = self.svc(s).clone();
+        let Some((clock, max)) = v.watch else { return };
         let name = v.name.clone();
         let p = self.add_process(
             &format!("{name}_watchdog"),
             ProcessKind::Watchdog(s),
             mt.span,
-            match v.watch {
-                Some((_, max)) => format!(
-                    "the max-time watchdog of {name}: interrupts its instance {max} after acknowledgment"
-                ),
-                None => format!(
-                    "the max-time watchdog of {name}: its codels loop without bound, so the watchdog may interrupt it at any time"
-                ),
+            if v.watch_exact {
+                format!("the max-time watchdog of {name}: interrupts its instance {max} after acknowledgment")
+            } else {
+                format!(
+                    "the max-time watchdog of {name}: its codels loop and its max-time is beyond the exactly timed horizon, so it interrupts its instance at any time from {max} after acknowledgment on"
+                )
             },
         );
         let fire = |b: &mut Builder<'a>, pending: bool| -> Vec<Stmt> {
@@ -2919,239 +2930,212 @@ impl<'a> Builder<'a> {
             st.extend(b.settle(&affected, &before, None, false, &[]));
             st
         };
-        match v.watch {
-            None => {
-                let on = self.add_location(
-                    p,
-                    Location {
-                        initial: true,
-                        ..loc("on", mt.span, &format!("watching {name} (no clock)"))
+        let off = self.add_location(
+            p,
+            Location {
+                initial: true,
+                ..loc(
+                    "off",
+                    mt.span,
+                    &format!("{name} has no instance the watchdog can interrupt"),
+                )
+            },
+        );
+        let bound = |op| ClockConstraint {
+            clock,
+            op,
+            bound: max,
+        };
+        let on = self.add_location(
+                p,
+                Location {
+                    invariant: if v.watch_exact {
+                        vec![bound(CmpOp::Le)]
+                    } else {
+                        Vec::new()
                     },
-                );
-                let st = fire(self, false);
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: on,
-                        event: event_id("watchdog"),
-                        guard: Expr::and([self.frozen_ok(), self.watchable(s)]),
-                        clock_guard: Vec::new(),
-                        statements: st,
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "the watchdog interrupts {name}'s active instance (at any time: unbounded loop)"
-                        ),
-                    },
-                );
-                let st = fire(self, true);
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: on,
-                        event: event_id("watchdog"),
-                        guard: Expr::and([
-                            self.frozen_ok(),
-                            Expr::eq(self.pend(s), Expr::int(1)),
-                        ]),
-                        clock_guard: Vec::new(),
-                        statements: st,
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "the watchdog ends {name}'s pending instance (TIMEOUT; at any time: unbounded loop)"
-                        ),
-                    },
-                );
-            }
-            Some((clock, max)) => {
-                let off = self.add_location(
-                    p,
-                    Location {
-                        initial: true,
-                        ..loc(
-                            "off",
-                            mt.span,
-                            &format!("{name} has no instance the watchdog can interrupt"),
-                        )
-                    },
-                );
-                let bound = |op| ClockConstraint {
-                    clock,
-                    op,
-                    bound: max,
-                };
-                let on = self.add_location(
-                    p,
-                    Location {
-                        invariant: vec![bound(CmpOp::Le)],
-                        ..loc(
-                            "on",
-                            mt.span,
-                            &format!(
-                                "{name} has a pending or interruptible active instance, acknowledged at most {max} ago"
-                            ),
-                        )
-                    },
-                );
-                let probe = self.add_location(
-                    p,
-                    loc(
-                        "probe",
+                    ..loc(
+                        "on",
                         mt.span,
                         &format!(
-                            "observer: at {name}'s max-time, everything else frozen, can time pass?"
+                            "{name} has a pending or interruptible active instance, acknowledged at most {max} ago"
                         ),
-                    ),
-                );
-                let label = self.fresh_label(&format!("timeout_{name}"));
-                let late = self.add_labelled(
-                    p,
-                    Location {
-                        committed: true,
-                        labels: vec![label],
-                        ..loc(
-                            "late",
-                            mt.span,
-                            &format!(
-                                "{name}'s instance is still running after its max-time (max-time exceeded)"
-                            ),
-                        )
-                    },
-                    Some(LabelKind::Timeout(s)),
-                );
-                let live = self.live(s);
-                let (arm, disarm) = self.arming(s).unwrap_or((Expr::FALSE, Expr::FALSE));
-                let armed = v.armed.unwrap_or(self.net.frozen);
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: off,
-                        to: on,
-                        event: event_id("arm"),
-                        guard: arm,
-                        clock_guard: Vec::new(),
-                        statements: vec![Stmt::set(armed, Expr::int(1))],
-                        urgent: true,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!("{name} has an instance to watch"),
-                    },
-                );
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: off,
-                        event: event_id("disarm"),
-                        guard: disarm,
-                        clock_guard: Vec::new(),
-                        statements: vec![Stmt::set(armed, Expr::int(0))],
-                        urgent: true,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "{name} has no instance to watch any more (ended or interrupted)"
-                        ),
-                    },
-                );
-                let st = fire(self, false);
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: on,
-                        event: event_id("watchdog"),
-                        guard: Expr::and([self.frozen_ok(), self.watchable(s)]),
-                        clock_guard: vec![bound(CmpOp::Ge)],
-                        statements: st,
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "max-time reached: the watchdog interrupts {name}'s active instance"
-                        ),
-                    },
-                );
-                let st = fire(self, true);
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: on,
-                        event: event_id("watchdog"),
-                        guard: Expr::and([
-                            self.frozen_ok(),
-                            Expr::eq(self.pend(s), Expr::int(1)),
-                        ]),
-                        clock_guard: vec![bound(CmpOp::Ge)],
-                        statements: st,
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "max-time reached: the watchdog ends {name}'s pending instance (TIMEOUT)"
-                        ),
-                    },
-                );
-                let urgency = self.engine_urgency();
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: on,
-                        to: probe,
-                        event: event_id("probe"),
-                        guard: Expr::and([self.frozen_ok(), live, Expr::negation(urgency)]),
-                        clock_guard: vec![bound(CmpOp::Ge)],
-                        statements: vec![Stmt::set(self.net.frozen, Expr::int(1))],
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "observer: {name}'s max-time is reached in a state where time may pass; freeze everything else"
-                        ),
-                    },
-                );
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: probe,
-                        to: late,
-                        event: event_id("exceed"),
-                        guard: Expr::TRUE,
-                        clock_guard: vec![bound(CmpOp::Gt)],
-                        statements: Vec::new(),
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "observer: time passes beyond {name}'s max-time with its instance still running"
-                        ),
-                    },
-                );
-                self.add_edge(
-                    p,
-                    Edge {
-                        from: probe,
-                        to: on,
-                        event: event_id("resume"),
-                        guard: Expr::TRUE,
-                        clock_guard: vec![bound(CmpOp::Le)],
-                        statements: vec![Stmt::set(self.net.frozen, Expr::int(0))],
-                        urgent: false,
-                        labels: Vec::new(),
-                        span: mt.span,
-                        description: format!(
-                            "observer: time cannot pass {name}'s max-time here; everything resumes"
-                        ),
-                    },
-                );
-            }
+                    )
+                },
+            );
+        let (arm, disarm) = self.arming(s).unwrap_or((Expr::FALSE, Expr::FALSE));
+        let armed = v.armed.unwrap_or(self.net.frozen);
+        self.add_edge(
+            p,
+            Edge {
+                from: off,
+                to: on,
+                event: event_id("arm"),
+                guard: arm,
+                clock_guard: Vec::new(),
+                statements: vec![Stmt::set(armed, Expr::int(1))],
+                urgent: true,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!("{name} has an instance to watch"),
+            },
+        );
+        self.add_edge(
+            p,
+            Edge {
+                from: on,
+                to: off,
+                event: event_id("disarm"),
+                guard: disarm,
+                clock_guard: Vec::new(),
+                statements: vec![Stmt::set(armed, Expr::int(0))],
+                urgent: true,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "{name} has no instance to watch any more (ended or interrupted)"
+                ),
+            },
+        );
+        let st = fire(self, false);
+        self.add_edge(
+            p,
+            Edge {
+                from: on,
+                to: on,
+                event: event_id("watchdog"),
+                guard: Expr::and([self.frozen_ok(), self.watchable(s)]),
+                clock_guard: vec![bound(CmpOp::Ge)],
+                statements: st,
+                urgent: false,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "max-time reached: the watchdog interrupts {name}'s active instance"
+                ),
+            },
+        );
+        let st = fire(self, true);
+        self.add_edge(
+            p,
+            Edge {
+                from: on,
+                to: on,
+                event: event_id("watchdog"),
+                guard: Expr::and([self.frozen_ok(), Expr::eq(self.pend(s), Expr::int(1))]),
+                clock_guard: vec![bound(CmpOp::Ge)],
+                statements: st,
+                urgent: false,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "max-time reached: the watchdog ends {name}'s pending instance (TIMEOUT)"
+                ),
+            },
+        );
+        // A looping service's max-time is enforced by its watchdog: no
+        // deadline to miss, so no probe (the engine reports advice).
+        if !self.machine(s).active_loop {
+            self.watchdog_probe(p, s, on, (clock, max));
         }
+    }
+
+    /// The observer of a watchdog process `p` (location `on`): at the
+    /// max-time, in a non-urgent state, it freezes every other process and
+    /// checks whether time can pass the max-time (`late`).
+    fn watchdog_probe(
+        &mut self,
+        p: ProcessId,
+        s: ServiceId,
+        on: LocationId,
+        (clock, max): (ClockId, i64),
+    ) {
+        let Some(mt) = self.c.services[s].max_time else {
+            return;
+        };
+        let name = self.svc(s).name.clone();
+        let bound = |op| ClockConstraint {
+            clock,
+            op,
+            bound: max,
+        };
+        let probe = self.add_location(
+            p,
+            loc(
+                "probe",
+                mt.span,
+                &format!("observer: at {name}'s max-time, everything else frozen, can time pass?"),
+            ),
+        );
+        let label = self.fresh_label(&format!("timeout_{name}"));
+        let late = self.add_labelled(
+            p,
+            Location {
+                committed: true,
+                labels: vec![label],
+                ..loc(
+                    "late",
+                    mt.span,
+                    &format!(
+                        "{name}'s instance is still running after its max-time (max-time exceeded)"
+                    ),
+                )
+            },
+            Some(LabelKind::Timeout(s)),
+        );
+        let live = self.live(s);
+        let urgency = self.engine_urgency();
+        self.add_edge(
+            p,
+            Edge {
+                from: on,
+                to: probe,
+                event: event_id("probe"),
+                guard: Expr::and([self.frozen_ok(), live, Expr::negation(urgency)]),
+                clock_guard: vec![bound(CmpOp::Ge)],
+                statements: vec![Stmt::set(self.net.frozen, Expr::int(1))],
+                urgent: false,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "observer: {name}'s max-time is reached in a state where time may pass; freeze everything else"
+                ),
+            },
+        );
+        self.add_edge(
+            p,
+            Edge {
+                from: probe,
+                to: late,
+                event: event_id("exceed"),
+                guard: Expr::TRUE,
+                clock_guard: vec![bound(CmpOp::Gt)],
+                statements: Vec::new(),
+                urgent: false,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "observer: time passes beyond {name}'s max-time with its instance still running"
+                ),
+            },
+        );
+        self.add_edge(
+            p,
+            Edge {
+                from: probe,
+                to: on,
+                event: event_id("resume"),
+                guard: Expr::TRUE,
+                clock_guard: vec![bound(CmpOp::Le)],
+                statements: vec![Stmt::set(self.net.frozen, Expr::int(0))],
+                urgent: false,
+                labels: Vec::new(),
+                span: mt.span,
+                description: format!(
+                    "observer: time cannot pass {name}'s max-time here; everything resumes"
+                ),
+            },
+        );
     }
 }
 

@@ -26,11 +26,14 @@
 //! - codel starts are urgent: time does not pass while a thread is free
 //!   and the service at its turn could take its locks; and a new control
 //!   codel does not take a lock that a thread at its turn wants;
-//! - the watchdog of a service without unbounded loop fires exactly
-//!   max-time after the acknowledgment of the instance it interrupts, and
-//!   time does not pass that deadline while the instance is still
-//!   running uninterrupted (except at the violation of a max-time claim);
-//!   a looping service's watchdog may fire at any time;
+//! - the watchdog of every service with `max-time` (looping or not) fires
+//!   exactly max-time after the acknowledgment of the instance it
+//!   interrupts, and time does not pass that deadline while the instance
+//!   is still running uninterrupted (except at the violation of a max-time
+//!   claim); an auto service's acknowledgment is its start, when
+//!   initialisation completes; only a looping service whose max-time is
+//!   beyond the exactly timed range (`Component::watchdog_instant_ns`)
+//!   has its watchdog fire at any time from its horizon on;
 //! - a wake-up that finds work of the previous period unfinished is an
 //!   overrun, allowed only as the last step before an overrun violation.
 //!
@@ -247,6 +250,27 @@ pub fn loops_without_bound(c: &Component, s: ServiceId) -> bool {
     dfs(start, &succ, &mut Vec::new(), &mut BTreeSet::new())
 }
 
+/// When the watchdog of `s` fires after the acknowledgment, and whether
+/// exactly then (docs/semantics.md, "Watchdogs of looping services": a
+/// looping service whose max-time is far beyond the periods and WCETs of
+/// the services it is explored with fires at any time from a horizon on).
+fn watchdog_instant(c: &Component, s: ServiceId) -> (u64, bool) {
+    let mut members = c
+        .timed_clusters()
+        .into_iter()
+        .find(|m| m.contains(&s))
+        .unwrap_or_default();
+    if let Some(i) = c.init_service().filter(|i| !members.contains(i)) {
+        members.push(i);
+    }
+    c.watchdog_instant_ns(s, loops_without_bound(c, s), &members)
+}
+
+/// Whether `s` is an auto service.
+fn is_auto(c: &Component, s: ServiceId) -> bool {
+    c.services[s].kind == genom_model::kinds::ServiceKind::Auto
+}
+
 fn wcet(c: &Component, k: CodelId) -> u64 {
     c.codels[k].wcet.map_or(0, |w| w.ns)
 }
@@ -396,7 +420,7 @@ impl Checker<'_> {
             let Some(m) = svc.max_time.map(|m| m.ns) else {
                 continue;
             };
-            if loops_without_bound(self.c, s) || (is_violation && self.late_exempt == Some(s)) {
+            if (is_violation && self.late_exempt == Some(s)) || !watchdog_instant(self.c, s).1 {
                 continue;
             }
             let watchable = match v.main {
@@ -464,6 +488,16 @@ impl Checker<'_> {
             }
             Event::Start => {
                 let s = self.service(step)?;
+                let auto = is_auto(self.c, s) && self.svc[s.0 as usize].pending_ack.is_none();
+                if auto {
+                    // Autos are never pending: their start is their
+                    // acknowledgment (the max-time clock starts now).
+                    self.svc[s.0 as usize].pending_ack = Some(t);
+                    if let Some(th) = self.thread_of(s).and_then(|tid| self.threads.get_mut(&tid)) {
+                        th.order.retain(|&x| x != s);
+                        th.order.push(s);
+                    }
+                }
                 let v = &mut self.svc[s.0 as usize];
                 v.main_ack = v.pending_ack.take();
                 v.last_ran = None;
@@ -757,10 +791,17 @@ impl Checker<'_> {
             if t < ack {
                 return Err("the watchdog fires before the acknowledgment".to_owned());
             }
-            if !loops_without_bound(self.c, s) && t != ack + m {
+            let (at, exact) = watchdog_instant(self.c, s);
+            if exact && t != ack + m {
                 return Err(format!(
                     "the watchdog fires at {t} ns, not at the deadline {} ns",
                     ack + m
+                ));
+            }
+            if !exact && t < ack + at {
+                return Err(format!(
+                    "the watchdog fires at {t} ns, before the horizon {} ns of its abstracted deadline",
+                    ack + at
                 ));
             }
         }

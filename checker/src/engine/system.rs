@@ -578,15 +578,35 @@ impl<'a> System<'a> {
         }
     }
 
+    /// Initialisation completes: every auto service becomes active at its
+    /// start codel at once (section 3: autos are not requests, are never
+    /// pending, and their `delays`/`forbids` about each other do not apply);
+    /// one without start codel completes at once.
     fn start_autos(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
         for (i, m) in self.members.iter().enumerate() {
-            if !m.input
-                && self.c.services[m.service].kind == ServiceKind::Auto
-                && !Self::has_instance(cfg, i)
+            if m.input
+                || self.c.services[m.service].kind != ServiceKind::Auto
+                || Self::has_instance(cfg, i)
             {
-                cfg.pending[i] = Some(0);
-                let text = format!("auto service `{}` is acknowledged", self.name(m.service));
-                self.emit(ev, Event::Acknowledge, m.service, None, || (None, text));
+                continue;
+            }
+            let s = m.service;
+            match self.machine(i).start {
+                Some(p) => {
+                    cfg.main[i] = p;
+                    self.emit(ev, Event::Start, s, self.c.services[s].start, || {
+                        (None, format!("auto service `{}` starts", self.name(s)))
+                    });
+                }
+                None => {
+                    self.emit(ev, Event::Start, s, None, || {
+                        (
+                            None,
+                            format!("auto service `{}` completes at once", self.name(s)),
+                        )
+                    });
+                    self.end(cfg, i, Ending::Success, false, ev);
+                }
             }
         }
     }

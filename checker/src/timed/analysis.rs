@@ -229,7 +229,9 @@ fn tvisit(ts: &TimedSystem<'_>, id: StateId, st: &TState, found: &mut TFound) {
         if ends_in_time(ts, st, i) {
             found.in_time.insert(s);
         }
-        if urgent || found.exceeded.contains_key(&s) {
+        // A looping service's max-time is enforced by its watchdog (the
+        // `max-time-watchdog` advice), not a deadline it can miss.
+        if urgent || found.exceeded.contains_key(&s) || ts.sys.machine_of(i).active_loop {
             continue;
         }
         let (Some((main, pend)), Some(max)) = (ts.watch[i], ts.max_time[i]) else {

@@ -131,6 +131,9 @@ pub struct TimedSystem<'a> {
     /// Per member: watchdog clock of the main instance (and of the pending
     /// one for self-stopping services).
     pub watch: Vec<Option<(usize, usize)>>,
+    /// Per member: its watchdog fires exactly at its max-time (else at any
+    /// time from `max_time`, the horizon, on).
+    pub watch_exact: Vec<bool>,
     /// Clock of the control codel.
     ctl_clock: usize,
     /// The clocks.
@@ -169,19 +172,24 @@ impl<'a> TimedSystem<'a> {
             }
         }
         let ctl_clock = clocks.add(ClockRole::Exec(None), None, None);
-        // Services whose codels loop without bound are only stopped by their
-        // watchdog, at whatever instant: they get no watchdog clock, and
-        // their watchdog may fire at any time (an over-approximation that
-        // keeps long max-times from unrolling every period until then).
-        let max_time: Vec<Option<i64>> = (0..sys.len())
+        // Every service with a max-time has a watchdog clock, looping ones
+        // included: the watchdog fires exactly max-time after the
+        // acknowledgment; only a looping service whose max-time is beyond
+        // the horizon has its watchdog fire at any time from the horizon on
+        // (docs/semantics.md, "Watchdogs of looping services").
+        let instants: Vec<Option<(u64, bool)>> = (0..sys.len())
             .map(|i| {
-                let svc = &c.services[sys.service(i)];
-                svc.max_time
-                    .filter(|_| !sys.machine_of(i).active_loop)
-                    .map(|m| units(m.ns, unit))
+                let s = sys.service(i);
+                c.services[s].max_time?;
+                Some(c.watchdog_instant_ns(s, sys.machine_of(i).active_loop, members))
             })
             .collect();
-        let watch = watch_clocks(c, &sys, &max_time, &mut clocks);
+        let watch_exact: Vec<bool> = instants.iter().map(|x| x.is_none_or(|(_, e)| e)).collect();
+        let max_time: Vec<Option<i64>> = instants
+            .iter()
+            .map(|x| x.map(|(ns, _)| units(ns, unit)))
+            .collect();
+        let watch = watch_clocks(c, &sys, &max_time, &watch_exact, &mut clocks);
         let ctl_wcet = (0..sys.len())
             .map(|i| {
                 c.services[sys.service(i)]
@@ -210,6 +218,7 @@ impl<'a> TimedSystem<'a> {
             max_time,
             ctl_wcet,
             watch,
+            watch_exact,
             ctl_clock,
             clocks,
             frozen,
@@ -344,7 +353,9 @@ impl<'a> TimedSystem<'a> {
     }
 
     fn watch_invariants(&self, cfg: &Config, i: usize) -> Vec<(usize, i64)> {
-        let (Some((main, pend)), Some(m)) = (self.watch[i], self.max_time[i]) else {
+        let (Some((main, pend)), Some(m), true) =
+            (self.watch[i], self.max_time[i], self.watch_exact[i])
+        else {
             return Vec::new();
         };
         let mut out = Vec::new();
@@ -893,16 +904,20 @@ fn watch_clocks(
     c: &Component,
     sys: &System<'_>,
     max_time: &[Option<i64>],
+    exact: &[bool],
     clocks: &mut Clocks,
 ) -> Vec<Option<(usize, usize)>> {
     (0..sys.len())
         .map(|i| {
             let m = max_time[i]?;
             let s = sys.service(i);
-            let main = clocks.add(ClockRole::Watch(s), Some(m), Some(m + 1));
+            // Without invariant (a watchdog firing at any time from the
+            // horizon on) the clock has no upper bound to compare.
+            let upper = exact[i].then_some(m + 1);
+            let main = clocks.add(ClockRole::Watch(s), Some(m), upper);
             let self_stop = c.services[s].stops.iter().any(|r| r.id == s);
             let pend = if self_stop {
-                clocks.add(ClockRole::WatchPending(s), Some(m), Some(m + 1))
+                clocks.add(ClockRole::WatchPending(s), Some(m), upper)
             } else {
                 main
             };

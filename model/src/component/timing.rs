@@ -11,7 +11,59 @@ pub fn uses_conflict(a: &[(StructureId, bool)], b: &[(StructureId, bool)]) -> bo
         .any(|&(s, wa)| b.iter().any(|&(t, wb)| s == t && (wa || wb)))
 }
 
+/// How many times the longest period or WCET of the services it is
+/// explored with a looping service's max-time may be for its watchdog to be
+/// timed exactly (docs/semantics.md, "Watchdogs of looping services").
+pub const WATCHDOG_EXACT_FACTOR: u64 = 64;
+
+/// Beyond that, the watchdog fires at any time from this many times the
+/// longest period or WCET on (a sound over-approximation).
+pub const WATCHDOG_HORIZON_FACTOR: u64 = 4;
+
 impl Component {
+    /// The longest period or WCET of `members` (0 when they have neither).
+    fn longest_constant_ns(&self, members: &[ServiceId]) -> u64 {
+        let mut longest = 0u64;
+        for &s in members {
+            let svc = &self.services[s];
+            let period = svc
+                .thread
+                .and_then(|t| self.threads[t.id].period)
+                .map_or(0, |p| p.ns);
+            let wcet = svc
+                .codels
+                .iter()
+                .chain(&svc.control)
+                .filter_map(|&k| self.codels[k].wcet.map(|w| w.ns))
+                .max()
+                .unwrap_or(0);
+            longest = longest.max(period).max(wcet);
+        }
+        longest
+    }
+
+    /// When the watchdog of service `s` (with a max-time), explored with
+    /// `members`, fires in the timed models: `(instant, exact)`, in
+    /// nanoseconds after the acknowledgment. Exactly at the max-time
+    /// (`exact`), except for a looping service whose max-time is more than
+    /// [`WATCHDOG_EXACT_FACTOR`] times the longest period or WCET of
+    /// `members`: its watchdog fires at any time from
+    /// [`WATCHDOG_HORIZON_FACTOR`] times that constant on (timing it
+    /// exactly would unroll every period until its max-time).
+    pub fn watchdog_instant_ns(
+        &self,
+        s: ServiceId,
+        looping: bool,
+        members: &[ServiceId],
+    ) -> (u64, bool) {
+        let max = self.services[s].max_time.map_or(0, |m| m.ns);
+        let longest = self.longest_constant_ns(members);
+        if !looping || longest == 0 || max <= longest.saturating_mul(WATCHDOG_EXACT_FACTOR) {
+            return (max, true);
+        }
+        (longest.saturating_mul(WATCHDOG_HORIZON_FACTOR), false)
+    }
+
     /// Whether the component gives timing: some codel WCET or service
     /// max-time (then the timed engine decides the verdicts).
     pub fn gives_timing(&self) -> bool {
