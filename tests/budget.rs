@@ -30,7 +30,7 @@ fn without_smt_budget_exits_2_and_says_why() {
 mod with_smt {
     use std::path::Path;
 
-    use genom_checker::CheckOptions;
+    use genom_check::CheckOptions;
     use genom_model::Severity;
     use genom_model::component::Component;
     use genom_parser::FsLoader;
@@ -67,7 +67,7 @@ mod with_smt {
     }
 
     fn component(path: &str, text: &str) -> Component {
-        let r = genom_checker::check_source(
+        let r = genom_check::check_source(
             Path::new(path),
             text.to_owned(),
             &FsLoader,
@@ -119,7 +119,7 @@ mod with_smt {
 
     /// The error codes of `text`, checked as `genom-check check` does.
     fn errors(path: &str, text: &str) -> Vec<String> {
-        let r = genom_checker::check_source(
+        let r = genom_check::check_source(
             Path::new(path),
             text.to_owned(),
             &FsLoader,

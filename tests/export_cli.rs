@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
-use genom_checker::CheckOptions;
+use genom_check::CheckOptions;
 use genom_export::{ExportInput, Exported, Format, Verification};
 use genom_parser::FsLoader;
 use predicates::prelude::*;
@@ -43,7 +43,7 @@ fn without_summary(report: &str) -> &str {
 
 /// What the library exports for `path`, verified as the CLI verifies it.
 fn library_export(format: Format, path: &str) -> Result<Exported, genom_export::ExportError> {
-    let result = genom_checker::check_file(Path::new(path), &FsLoader, &CheckOptions::new())
+    let result = genom_check::check_file(Path::new(path), &FsLoader, &CheckOptions::new())
         .expect("readable");
     let verification = Verification::of(
         result.component.as_ref(),

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use assert_cmd::Command;
-use genom_checker::CheckOptions;
+use genom_check::CheckOptions;
 use genom_model::Severity;
 use genom_model::render::{FileReport, human, json};
 use genom_parser::FsLoader;
@@ -41,7 +41,7 @@ fn regressions_check_without_panic_and_with_spans_in_files() {
     let files = inputs();
     assert!(!files.is_empty(), "no regression inputs found");
     for path in files {
-        let result = genom_checker::check_file(&path, &FsLoader, &options())
+        let result = genom_check::check_file(&path, &FsLoader, &options())
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         for d in &result.diagnostics {
             for label in &d.labels {

@@ -9,7 +9,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use genom_checker::CheckResult;
+use genom_check::CheckResult;
 use genom_model::{Code, Severity, Span};
 
 /// Every static code of LANGUAGE.md section 4: resolution, structure and
@@ -119,7 +119,7 @@ fn every_static_code_is_explained_with_an_example() {
     let unexplained: Vec<&str> = STATIC
         .iter()
         .filter(|&&code| {
-            let text = genom_checker::explain::explanation(code);
+            let text = genom_check::explain::explanation(code);
             text.matches("```").count() < 2
         })
         .map(|code| code.as_str())

@@ -40,8 +40,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use genom_check::{CheckOptions, CheckResult};
 use genom_checker::generate::{GeneratorConfig, generate};
-use genom_checker::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
@@ -221,7 +221,7 @@ fn kind_index(c: &Component, kind: LabelKind) -> usize {
 fn compare(seed: u64, tck: &Path, algo: &str, dir: &Path, tally: &mut Tally) -> bool {
     let started = Instant::now();
     let text = generate(&config(seed));
-    let result = genom_checker::check_source(
+    let result = genom_check::check_source(
         Path::new("generated.gen"),
         text.clone(),
         &genom_parser::MemoryLoader::new(),

@@ -22,8 +22,8 @@ mod timed_trace;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use genom_check::{CheckOptions, CheckResult};
 use genom_checker::replay::{Claim, replay, replay_claim};
-use genom_checker::{CheckOptions, CheckResult};
 use genom_model::component::{Component, ServiceId};
 use genom_model::render::human::format_ns;
 use genom_model::{Code, Diagnostic, Event, Severity, Trace, TraceStep};
@@ -746,7 +746,7 @@ fn worked_example(max_time: &str) -> String {
 }
 
 fn check_inline(src: &str) -> CheckResult {
-    genom_checker::check_source(
+    genom_check::check_source(
         Path::new("inline.gen"),
         src.to_owned(),
         &genom_parser::MemoryLoader::new(),

@@ -15,8 +15,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use genom_check::{CheckOptions, CheckResult};
 use genom_checker::replay::{Claim, ReplayError, replay, replay_claim};
-use genom_checker::{CheckOptions, CheckResult};
 use genom_model::component::{Component, Outcome};
 use genom_model::{Code, Diagnostic, Event, Trace, TraceStep};
 use genom_parser::FsLoader;
@@ -582,7 +582,7 @@ fn assert_never_reached(fixture: &str, service: &str, codel: &str, line: usize) 
     );
     assert_eq!(common::primary_line(&result, found[0]), line, "{report}");
     assert!(found[0].trace.is_none());
-    let statically = genom_checker::check_file(
+    let statically = genom_check::check_file(
         &common::relative(&path),
         &FsLoader,
         &CheckOptions::new().behaviour(false),
@@ -1140,7 +1140,7 @@ fn the_explorer_replies_timeout_after_a_watchdog_and_cleanup_codels() {
 
 /// Checks `src` (as `inline.gen`) with the default options.
 fn check_inline(src: &str) -> CheckResult {
-    genom_checker::check_source(
+    genom_check::check_source(
         Path::new("inline.gen"),
         src.to_owned(),
         &genom_parser::MemoryLoader::new(),
@@ -1321,7 +1321,7 @@ fn a_state_limit_gives_incomplete_and_no_negative_claim() {
         ("dead-service.delayed-by-auto.gen", "`Heartbeat`, `Update`"),
     ] {
         let path = common::invalid(fixture);
-        let result = genom_checker::check_file(
+        let result = genom_check::check_file(
             &common::relative(&path),
             &FsLoader,
             &CheckOptions::new().max_states(3),

@@ -1,21 +1,19 @@
-//! The genom-check verification pipeline: parse, resolve names and types
-//! into the component model, run the static checks, and (in later stages)
-//! the model-checking engines. Each stage returns its partial result and all
-//! its diagnostics; [`check_file`] runs them in order and returns
-//! everything, sorted.
+//! The genom-check checker: reads only the component model a front-end
+//! lowered, runs the static checks on it and the model-checking engines.
+//! [`verify`] runs them in order and returns every diagnostic, sorted.
 
 #[cfg(feature = "smt")]
 pub mod budget;
 pub mod checks;
 pub mod engine;
-pub mod explain;
 pub mod generate;
-mod pipeline;
 pub mod replay;
-pub mod resolve;
 #[cfg(test)]
 pub mod testing;
 pub mod timed;
+mod verify;
 pub mod zones;
 
-pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};
+#[cfg(test)]
+pub use testing::{CheckResult, check_source};
+pub use verify::{CheckOptions, Verdicts, verify};

@@ -1,13 +1,56 @@
-//! Test support for check files: run the whole pipeline on a source text
-//! and look at its diagnostics or rendered report.
+//! Test support for check files: run the whole check (the front-end, a
+//! dev-dependency, then the checker) on a source text and look at its
+//! diagnostics or rendered report.
 
 use std::path::Path;
+use std::time::Instant;
 
-use genom_model::Code;
+use genom_model::component::Component;
 use genom_model::render::{FileReport, human};
-use genom_parser::MemoryLoader;
+use genom_model::{Code, Diagnostic, SourceMap, Statistics};
+use genom_parser::{Loader, MemoryLoader};
 
-use crate::{CheckOptions, CheckResult, check_source};
+use crate::{CheckOptions, verify};
+
+/// Everything a check found about one source text (as the product's
+/// `genom_check::CheckResult`, without the syntax trees).
+#[derive(Debug, Clone)]
+pub struct CheckResult {
+    /// The checked file and its includes.
+    pub sources: SourceMap,
+    /// All diagnostics, sorted by file and position.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The resolved component, when the file parsed completely and has a
+    /// `component` item.
+    pub component: Option<Component>,
+    /// Exploration figures, when the engines ran.
+    pub statistics: Option<Statistics>,
+}
+
+/// Checks already-loaded text as the product's `genom_check::check_source`
+/// does: the front-end lowers it, the checker checks the model.
+pub fn check_source(
+    path: &Path,
+    text: String,
+    loader: &dyn Loader,
+    options: &CheckOptions,
+) -> CheckResult {
+    let started = Instant::now();
+    let front = genom_parser::lower(path, text, loader);
+    let verdicts = verify(
+        front.model,
+        front.has_component,
+        front.diagnostics,
+        options,
+        started,
+    );
+    CheckResult {
+        sources: front.sources,
+        diagnostics: verdicts.diagnostics,
+        component: verdicts.component,
+        statistics: verdicts.statistics,
+    }
+}
 
 /// Checks `src` as `test.gen`; `files` are other files available for
 /// includes, as `(path, text)`.

@@ -11,7 +11,7 @@ mod common;
 
 use std::path::Path;
 
-use genom_checker::{CheckOptions, check_file};
+use genom_check::{CheckOptions, check_file};
 use genom_export::{ExportInput, Format, Verification, config};
 use genom_parser::FsLoader;
 use serde_json::Value;

@@ -12,7 +12,7 @@ use std::io::Write as _;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-use genom_checker::CheckResult;
+use genom_check::CheckResult;
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;

@@ -8,8 +8,8 @@
 use std::path::Path;
 use std::time::Duration;
 
+use genom_check::CheckOptions;
 use genom_check_fuzz::{PATH, assert_spans, loader, render};
-use genom_checker::CheckOptions;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|text: &str| {
@@ -17,7 +17,7 @@ fuzz_target!(|text: &str| {
         .max_states(20_000)
         .timeout(Some(Duration::from_millis(200)))
         .max_memory(64 << 20);
-    let result = genom_checker::check_source(Path::new(PATH), text.to_owned(), &loader(), &options);
+    let result = genom_check::check_source(Path::new(PATH), text.to_owned(), &loader(), &options);
     assert_spans(&result.sources, &result.diagnostics);
     let _ = render(
         &result.sources,

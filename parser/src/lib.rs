@@ -1,6 +1,8 @@
-//! The genom-check front end: reads a `.gen` file and the IDL files it
-//! includes, and returns the AST of every file with all syntax diagnostics
-//! (`ParserReturn { sources, ast, diagnostics }`, as in oxc).
+//! The genom-check front end of the LANGUAGE.md dialect: reads a `.gen`
+//! file and the IDL files it includes, and returns the AST of every file
+//! with all syntax diagnostics (`ParserReturn { sources, ast, diagnostics }`,
+//! as in oxc); then lowers the AST into the component model ([`resolve`],
+//! [`lower`]), with the diagnostics resolution raises ([`checks`]).
 //!
 //! Parsing never stops at the first error: each top-level item is parsed on
 //! its own and, after an error, parsing resumes at the next line that starts
@@ -9,20 +11,24 @@
 
 pub mod ast;
 mod build;
+pub mod checks;
 pub mod diagnostics;
 mod grammar;
 pub mod literal;
 pub mod loader;
+pub mod resolve;
 mod syntax;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use genom_model::component::Component;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 use pest::Parser as _;
 
 pub use ast::Ast;
 pub use loader::{FsLoader, LoadError, Loader, MemoryLoader};
+pub use resolve::{ResolveReturn, resolve};
 pub use syntax::MAX_NESTING;
 
 use ast::{Item, Unit};
@@ -85,6 +91,58 @@ pub fn parse_source(path: &Path, text: String, loader: &dyn Loader) -> ParserRet
 /// Parses a single `.gen` text with no includes available (tests, fuzzing).
 pub fn parse_str(path: &str, text: &str) -> ParserReturn {
     parse_source(Path::new(path), text.to_owned(), &MemoryLoader::new())
+}
+
+/// What the front end produces: every loaded file, the AST of each, the
+/// lowered model and all diagnostics found on the way.
+#[derive(Debug, Clone, Default)]
+pub struct LowerReturn {
+    /// The checked file first, then included files.
+    pub sources: SourceMap,
+    /// The trees.
+    pub ast: Ast,
+    /// Syntax, include and literal diagnostics (sorted), then resolution,
+    /// structure and type diagnostics (in the order found).
+    pub diagnostics: Vec<Diagnostic>,
+    /// The resolved model, when every file parsed completely and every
+    /// include was found (possibly partial when resolution found errors).
+    pub model: Option<Component>,
+    /// Whether the checked file has a `component` item.
+    pub has_component: bool,
+}
+
+/// Parses `path` and everything it includes, then resolves it. Fails only
+/// when `path` itself cannot be read.
+pub fn lower_file(path: &Path, loader: &dyn Loader) -> Result<LowerReturn, LoadError> {
+    let text = loader.load(path)?;
+    Ok(lower(path, text, loader))
+}
+
+/// Parses already-loaded text as the checked file (includes go through
+/// `loader`) and, when every file parsed completely, resolves it into the
+/// component model.
+pub fn lower(path: &Path, text: String, loader: &dyn Loader) -> LowerReturn {
+    let parsed = parse_source(path, text, loader);
+    let mut diagnostics = parsed.diagnostics.clone();
+    let mut model = None;
+    let mut has_component = false;
+    if parsed.is_complete() {
+        let start = parsed
+            .sources
+            .file(FileId(0))
+            .map_or(Span::default(), |f| Span::point(f.base));
+        let resolved = resolve(&parsed.ast, start);
+        diagnostics.extend(resolved.diagnostics);
+        has_component = resolved.has_component;
+        model = Some(resolved.component);
+    }
+    LowerReturn {
+        sources: parsed.sources,
+        ast: parsed.ast,
+        diagnostics,
+        model,
+        has_component,
+    }
 }
 
 fn display(path: &Path) -> String {

@@ -31,7 +31,7 @@ pub use with_smt::run;
 mod with_smt {
     use std::time::Instant;
 
-    use genom_checker::CheckOptions;
+    use genom_check::CheckOptions;
     use genom_checker::budget::{
         BudgetOptions, Budgets, CodelBudget, Limit, SCALE_STEPS, ScaleBudget, budgets,
     };
@@ -51,7 +51,7 @@ mod with_smt {
         let started = Instant::now();
         let shown = args.file.to_string_lossy().replace('\\', "/");
         let options = CheckOptions::new().behaviour(false);
-        let result = match genom_checker::check_file(&args.file, &FsLoader, &options) {
+        let result = match genom_check::check_file(&args.file, &FsLoader, &options) {
             Ok(r) => r,
             Err(e) => {
                 eprintln!("error: cannot read `{shown}`: {e}");
@@ -133,7 +133,7 @@ mod with_smt {
         Ok(Some(out))
     }
 
-    fn print_report(shown: &str, result: &genom_checker::CheckResult, output: &OutputArgs) {
+    fn print_report(shown: &str, result: &genom_check::CheckResult, output: &OutputArgs) {
         let report = FileReport {
             path: shown,
             sources: &result.sources,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use genom_checker::{CheckOptions, CheckResult};
+use genom_check::{CheckOptions, CheckResult};
 use genom_model::render::{FileReport, human, json};
 use genom_model::{Counts, Severity};
 use genom_parser::FsLoader;
@@ -24,7 +24,7 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     for path in &args.files {
         let shown = display(path);
-        match genom_checker::check_file(path, &FsLoader, &options) {
+        match genom_check::check_file(path, &FsLoader, &options) {
             Ok(result) => results.push((shown, result)),
             Err(e) => {
                 eprintln!("error: cannot read `{shown}`: {e}");

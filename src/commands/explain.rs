@@ -9,7 +9,7 @@ use crate::cli::ExplainArgs;
 pub fn run(args: &ExplainArgs) -> u8 {
     match args.code.parse::<Code>() {
         Ok(code) => {
-            crate::terminal::emit(&genom_checker::explain::explanation(code));
+            crate::terminal::emit(&genom_check::explain::explanation(code));
             EXIT_OK
         }
         Err(e) => {

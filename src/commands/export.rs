@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use genom_checker::{CheckOptions, CheckResult};
+use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
 use genom_model::render::{FileReport, human, json};
@@ -21,7 +21,7 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
     let options = CheckOptions::new()
         .max_states(args.max_states)
         .timeout(args.timeout);
-    let result = match genom_checker::check_file(&args.file, &FsLoader, &options) {
+    let result = match genom_check::check_file(&args.file, &FsLoader, &options) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: cannot read `{shown}`: {e}");

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use genom_checker::{CheckOptions, CheckResult};
+use genom_check::{CheckOptions, CheckResult};
 use genom_model::Diagnostic;
 use genom_model::component::Component;
 use genom_model::render::{FileReport, human};
@@ -26,7 +26,7 @@ pub fn relative(path: &Path) -> PathBuf {
 
 /// Checks a file given relative to the workspace root.
 pub fn check(path: &Path) -> CheckResult {
-    genom_checker::check_file(&relative(path), &FsLoader, &CheckOptions::new())
+    genom_check::check_file(&relative(path), &FsLoader, &CheckOptions::new())
         .expect("fixture is readable")
 }
 

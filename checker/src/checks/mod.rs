@@ -1,30 +1,38 @@
 //! The checks, one file per check with its explanation, its diagnostic
-//! constructors and its pass/fail tests. Resolution checks are reported by
-//! the resolver through these constructors; static model checks
-//! ([`run`]) run on the resolved component; behavioural verdicts
-//! ([`behaviour`]) read the explorer's [`Analysis`].
+//! constructors and its pass/fail tests. Static model checks ([`run`]) run
+//! on the resolved component; behavioural verdicts ([`behaviour`]) read the
+//! explorer's [`Analysis`]. Resolution checks belong to the front-end
+//! (`genom_parser::checks`); their files here hold only their tests, which
+//! run the whole check.
 
 pub mod auto_terminates;
 pub mod codel_overrun;
-pub mod codel_transitions;
+#[cfg(test)]
+mod codel_transitions;
 pub mod dead_service;
 pub mod deadlock;
-pub mod duplicate_definition;
+#[cfg(test)]
+mod duplicate_definition;
 pub mod incomplete;
-pub mod invalid_attribute;
+#[cfg(test)]
+mod invalid_attribute;
 pub mod max_time;
-pub mod missing_component;
+#[cfg(test)]
+mod missing_component;
 pub mod missing_on_inter;
 pub mod missing_wcet;
 pub mod no_termination;
 pub mod privilege_escalation;
 pub mod prototype_mismatch;
-pub mod service_structure;
+#[cfg(test)]
+mod service_structure;
 pub mod starvation;
 pub mod thread_overrun;
-pub mod type_mismatch;
+#[cfg(test)]
+mod type_mismatch;
 pub mod unbounded_interrupt;
-pub mod unknown_name;
+#[cfg(test)]
+mod unknown_name;
 pub mod unreachable_codel;
 pub mod unused_report;
 pub mod update_rules;

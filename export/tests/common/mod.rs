@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use genom_checker::{CheckOptions, CheckResult, check_file};
+use genom_check::{CheckOptions, CheckResult, check_file};
 use genom_parser::FsLoader;
 
 /// Every `.gen` file of `specs/`, sorted, as a path relative to this crate

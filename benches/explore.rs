@@ -4,7 +4,7 @@
 //! references per service), a realistic one (about one) and a dense one
 //! (three).
 //!
-//! `cargo bench -p genom-checker --bench explore -- --warm-up-time 1 --measurement-time 5`
+//! `cargo bench -p genom-check --bench explore -- --warm-up-time 1 --measurement-time 5`
 //!
 //! Before measuring, each case is checked once and its exploration figures
 //! are printed on stderr (states, transitions, bytes per state, largest
@@ -24,8 +24,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use genom_check::{CheckOptions, check_source};
 use genom_checker::generate::{GeneratorConfig, generate};
-use genom_checker::{CheckOptions, check_source};
 use genom_model::component::Component;
 use genom_parser::MemoryLoader;
 

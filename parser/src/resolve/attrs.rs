@@ -1,7 +1,7 @@
 //! Attribute lists: which attributes each kind of block accepts, and typed
 //! access to them once duplicates and misplaced ones are reported.
 
-use genom_parser::ast::{
+use crate::ast::{
     AttrValue, Attribute, Call, DataRef, DurationLit, Ident, IntLit, Param, SizeLit, StrLit,
     TypedName,
 };

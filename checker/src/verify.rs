@@ -1,14 +1,11 @@
-//! Runs the stages of a check in order (text → AST → model → verdicts) and
-//! gathers their diagnostics and statistics.
+//! The checker's stage of a check: the static checks on the model a
+//! front-end lowered, then (when the model is a clean component) the
+//! untimed or timed engine and the verdicts of its exploration.
 
-use std::path::Path;
 use std::time::{Duration, Instant};
 
 use genom_model::component::Component;
-use genom_model::{
-    Code, Diagnostic, FileId, Severity, SourceMap, Span, Statistics, sort_diagnostics,
-};
-use genom_parser::{Ast, LoadError, Loader};
+use genom_model::{Code, Diagnostic, Severity, Statistics, sort_diagnostics};
 
 use crate::engine::Limits;
 
@@ -87,52 +84,34 @@ impl CheckOptions {
     }
 }
 
-/// Everything a check found about one file.
+/// What the checker found about a model.
 #[derive(Debug, Clone)]
-pub struct CheckResult {
-    /// The checked file and its includes.
-    pub sources: SourceMap,
-    /// The syntax trees.
-    pub ast: Ast,
-    /// All diagnostics, sorted by file and position.
+pub struct Verdicts {
+    /// All diagnostics (the front-end's and the checker's), sorted by file
+    /// and position.
     pub diagnostics: Vec<Diagnostic>,
-    /// The resolved component, when the file parsed completely and has a
-    /// `component` item.
+    /// The checked component, when the model is a component's.
     pub component: Option<Component>,
     /// Exploration figures, when the engines ran.
     pub statistics: Option<Statistics>,
 }
 
-/// Checks the file at `path`. Fails only when that file cannot be read.
-pub fn check_file(
-    path: &Path,
-    loader: &dyn Loader,
+/// Checks the model a front-end lowered. `model` is the resolved model
+/// (`None` when the text did not parse completely), `has_component` whether
+/// the file has a `component` item, `diagnostics` the front-end's, and
+/// `started` when the whole check started (for its time limit and
+/// figures).
+pub fn verify(
+    model: Option<Component>,
+    has_component: bool,
+    mut diagnostics: Vec<Diagnostic>,
     options: &CheckOptions,
-) -> Result<CheckResult, LoadError> {
-    let text = loader.load(path)?;
-    Ok(check_source(path, text, loader, options))
-}
-
-/// Checks already-loaded text; includes are read through `loader`.
-pub fn check_source(
-    path: &Path,
-    text: String,
-    loader: &dyn Loader,
-    options: &CheckOptions,
-) -> CheckResult {
-    let started = Instant::now();
-    let parsed = genom_parser::parse_source(path, text, loader);
-    let mut diagnostics = parsed.diagnostics.clone();
+    started: Instant,
+) -> Verdicts {
     let mut component = None;
-    if parsed.is_complete() {
-        let start = parsed
-            .sources
-            .file(FileId(0))
-            .map_or(Span::default(), |f| Span::point(f.base));
-        let resolved = crate::resolve::resolve(&parsed.ast, start);
-        diagnostics.extend(resolved.diagnostics);
-        diagnostics.extend(crate::checks::run(&resolved.component));
-        component = resolved.has_component.then_some(resolved.component);
+    if let Some(model) = model {
+        diagnostics.extend(crate::checks::run(&model));
+        component = has_component.then_some(model);
     }
     // A codel longer than its period leaves the model well formed: the
     // engines still run, to give that verdict its timed trace.
@@ -162,9 +141,7 @@ pub fn check_source(
     if let Some(s) = &mut statistics {
         s.time_ms = started.elapsed().as_secs_f64() * 1000.0;
     }
-    CheckResult {
-        sources: parsed.sources,
-        ast: parsed.ast,
+    Verdicts {
         diagnostics,
         component,
         statistics,

@@ -19,12 +19,12 @@ mod values;
 
 use std::collections::BTreeMap;
 
+use crate::Ast;
+use crate::ast::{self, Item};
 use genom_model::component::{
     Component, DEFAULT_CREDENTIALS, Named, ServiceId, StructureId, ThreadId,
 };
 use genom_model::{Diagnostic, Span};
-use genom_parser::Ast;
-use genom_parser::ast::{self, Item};
 
 use crate::checks::{duplicate_definition, missing_component};
 use scope::Scopes;

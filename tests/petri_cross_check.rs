@@ -19,7 +19,7 @@ use petri_common::{Sizes, cross_check, load, parse};
 const LIMIT: usize = 200_000;
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
 }
 
 fn gen_files(dir: &Path) -> Vec<PathBuf> {

@@ -2,10 +2,10 @@
 //! (thread, reports, max-time, credential, stops/delays/forbids,
 //! parameters, imports and exports), then their codels.
 
+use crate::ast::{self, ParamTarget, TypedName};
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{Named, Param, Ref, Service, ServiceId, StructureId, Ty};
 use genom_model::kinds::{DataKind, ServiceKind};
-use genom_parser::ast::{self, ParamTarget, TypedName};
 
 use super::attrs::{self, Attrs};
 use super::{Resolver, named};

@@ -1,6 +1,7 @@
 //! `genom-check explain CODE`: the long explanation of every diagnostic code
 //! (what it finds, why it matters, an example), as `rustc --explain` does.
-//! Each text lives next to the code that produces the diagnostic.
+//! Each text lives next to the code that produces the diagnostic: in the
+//! front-end (syntax and resolution) or in the checker.
 
 use genom_model::Code;
 
@@ -22,7 +23,8 @@ pub fn explanation(code: Code) -> String {
 
 /// The explanation text of each code, from the file that produces it.
 fn body(code: Code) -> &'static str {
-    use crate::checks::*;
+    use genom_checker::checks::*;
+    use genom_parser::checks::*;
     use genom_parser::diagnostics::explain as parser;
     match code {
         Code::Syntax => parser::SYNTAX,

@@ -4,9 +4,9 @@
 
 use std::collections::BTreeMap;
 
+use crate::ast::ScopedName;
 use genom_model::Span;
 use genom_model::component::TypeId;
-use genom_parser::ast::ScopedName;
 
 /// What a qualified IDL name designates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -9,10 +9,10 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use genom_check::{CheckOptions, check_file, check_source};
 use genom_checker::engine::explore::{Limits, Model, explore};
 use genom_checker::engine::petri_check::{StableGraph, is_stable, stable_graph};
 use genom_checker::engine::system::{Config, System};
-use genom_checker::{CheckOptions, check_file, check_source};
 use genom_model::Severity;
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};
@@ -58,7 +58,7 @@ pub fn parse(src: &str) -> Result<Component, Vec<String>> {
     component_of(result)
 }
 
-fn component_of(result: genom_checker::CheckResult) -> Result<Component, Vec<String>> {
+fn component_of(result: genom_check::CheckResult) -> Result<Component, Vec<String>> {
     let errors: Vec<String> = result
         .diagnostics
         .iter()

@@ -2,12 +2,12 @@
 //! types (numbers and ranges, booleans, strings and bounds, enum values,
 //! struct initialisers by field, arrays and sequences), giving model values.
 
+use crate::ast::{self, FieldInit};
 use genom_model::Span;
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{Ty, Value};
 use genom_model::diagnostic::closest;
 use genom_model::kinds::BaseType;
-use genom_parser::ast::{self, FieldInit};
 
 use super::Resolver;
 use super::idl::describe_value;

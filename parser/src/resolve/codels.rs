@@ -2,9 +2,9 @@
 //! the service structure rules (`missing-start`, `missing-thread`), and codel
 //! bodies: the call and its arguments, `update`, `on-inter`, WCET and `next`.
 
+use crate::ast;
 use genom_model::component::{Arg, Call, Codel, CodelId, Named, Next, Outcome, Ref, ServiceId};
 use genom_model::kinds::CodelKind;
-use genom_parser::ast;
 
 use super::attrs::{self, Attrs};
 use super::{Resolver, named};

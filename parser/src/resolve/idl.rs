@@ -2,11 +2,11 @@
 //! constants of every file, by module scope; type expressions; constant
 //! evaluation (lazy, so constants may refer to later ones).
 
+use crate::Ast;
+use crate::ast::{self, BinOp, ConstExpr, Item, StructMember, TypeSpec, TypedefTarget};
 use genom_model::Span;
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{Constant, Field, Ty, TypeDef, TypeId, TypeKind, Value};
-use genom_parser::Ast;
-use genom_parser::ast::{self, BinOp, ConstExpr, Item, StructMember, TypeSpec, TypedefTarget};
 
 use super::Resolver;
 use super::scope::{Symbol, qualify};

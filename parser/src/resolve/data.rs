@@ -4,14 +4,14 @@
 
 use std::collections::BTreeMap;
 
+use crate::Ast;
+use crate::ast::{self, DataRef, Item, PathElem};
 use genom_model::Diagnostic;
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{
     DataPath, DataRoot, Field, Param, ServiceId, Step, Structure, Ty, TypeDef, TypeKind,
 };
 use genom_model::kinds::DataKind;
-use genom_parser::Ast;
-use genom_parser::ast::{self, DataRef, Item, PathElem};
 
 use super::{Block, Resolver};
 use crate::checks::{duplicate_definition, unknown_name};

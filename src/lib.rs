@@ -1,0 +1,9 @@
+//! genom-check as a library: the whole check of a file (the front-end
+//! lowers the text into the component model, the checker checks it) and
+//! the `explain` texts of every diagnostic code. It never prints: only the
+//! binary does.
+
+pub mod explain;
+mod pipeline;
+
+pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};
