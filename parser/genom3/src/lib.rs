@@ -1,0 +1,156 @@
+//! The GenoM3 front end of genom-check: reads a GenoM3 `.gen` file (the
+//! dialect of LAAS-CNRS's `genom3`) with the files it includes, and lowers it
+//! into the one resolved model, [`genom_model::component::Component`].
+//!
+//! # API
+//!
+//! - [`load`]`(path, &Genom3Options) -> Result<Genom3Return, LoadError>`:
+//!   the whole pipeline on the file system (fails only when `path` itself
+//!   cannot be read). [`load_with`] takes a [`Loader`] and the text.
+//! - [`Genom3Options`]: `include_dirs` (the `-I` folders, in order),
+//!   `use_env_include_path` (also search `GENOM_INCLUDE_PATH`), `wcet_file`.
+//! - [`Genom3Return`]: `sources` (one `FileId` per file, the checked file
+//!   first), `component` (`None` for interface-only files or when nothing
+//!   could be lowered), `diagnostics` (sorted), `pragmas`
+//!   (`#pragma require/provides/…`, in order), `is_interface_only`, `ast`.
+//! - [`looks_like_genom3`]`(text) -> bool`: dialect detection by syntax.
+//! - [`wcet::parse_wcet`] / [`wcet::apply_wcets`]: the WCET side file.
+//! - [`explain::explanation`]: long texts of the codes this crate adds.
+//!
+//! # Pipeline
+//!
+//! `load.rs` reads files and includes (search order: the including file's
+//! folder, each `-I` folder, then `GENOM_INCLUDE_PATH`), `preprocess.rs`
+//! handles directives in process keeping offsets exact, `grammar.pest` +
+//! `build.rs` give one AST per file, `lower/` resolves names into the model
+//! and runs GenoM3's own static checks, `wcet.rs` reads WCETs. A diagnostic
+//! in an included file points into that file and carries the include chain
+//! as secondary labels.
+
+pub mod ast;
+mod build;
+mod builtin;
+mod detect;
+mod diagnostics;
+pub mod explain;
+mod grammar;
+pub mod load;
+pub mod lower;
+pub mod preprocess;
+mod syntax;
+pub mod wcet;
+
+use std::path::{Path, PathBuf};
+
+use genom_model::component::Component;
+use genom_model::{Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
+
+pub use detect::looks_like_genom3;
+pub use load::{FsLoader, LoadError, Loader, MemoryLoader};
+pub use preprocess::Pragma;
+
+/// Options of a GenoM3 load.
+#[derive(Debug, Clone, Default)]
+pub struct Genom3Options {
+    /// `-I` folders, searched in order after the including file's folder.
+    pub include_dirs: Vec<PathBuf>,
+    /// Also search the folders of the `GENOM_INCLUDE_PATH` environment
+    /// variable (`:`-separated) after `include_dirs`.
+    pub use_env_include_path: bool,
+    /// A WCET side file to apply to the component.
+    pub wcet_file: Option<PathBuf>,
+}
+
+/// What a GenoM3 load produces (`XReturn { value, diagnostics }`).
+#[derive(Debug, Default)]
+pub struct Genom3Return {
+    /// Every loaded file, the checked file first.
+    pub sources: SourceMap,
+    /// The lowered component; `None` for an interface-only file, or when
+    /// the file has no component.
+    pub component: Option<Component>,
+    /// Every diagnostic, sorted.
+    pub diagnostics: Vec<Diagnostic>,
+    /// `#pragma` lines in preprocessor order.
+    pub pragmas: Vec<Pragma>,
+    /// True when the files define interfaces and IDL but no component.
+    pub is_interface_only: bool,
+    /// The syntax trees.
+    pub ast: ast::Ast,
+}
+
+/// Loads a GenoM3 file from the file system.
+pub fn load(path: &Path, options: &Genom3Options) -> Result<Genom3Return, LoadError> {
+    let text = FsLoader.load(path)?;
+    let mut search = options.include_dirs.clone();
+    if options.use_env_include_path {
+        if let Some(var) = std::env::var_os("GENOM_INCLUDE_PATH") {
+            search.extend(std::env::split_paths(&var).filter(|p| !p.as_os_str().is_empty()));
+        }
+    }
+    let mut out = load_with(path, text, &search, &FsLoader);
+    if let Some(wcet_path) = &options.wcet_file {
+        match FsLoader.load(wcet_path) {
+            Ok(text) => {
+                let file = out.sources.add(wcet_path, text);
+                if let Some(c) = out.component.as_mut() {
+                    let parsed = wcet::parse_wcet(&out.sources, file);
+                    out.diagnostics.extend(parsed.diagnostics);
+                    out.diagnostics.extend(wcet::apply_wcets(c, &parsed.entries));
+                }
+            }
+            Err(e) => return Err(e),
+        }
+        sort_diagnostics(&mut out.diagnostics);
+    }
+    Ok(out)
+}
+
+/// Loads already-read text as the checked file; includes go through
+/// `loader` and are searched in `search` after the including file's folder.
+pub fn load_with(path: &Path, text: String, search: &[PathBuf], loader: &dyn Loader) -> Genom3Return {
+    let loaded = load::load_all(path, text, search, loader, &[(builtin::PATH, builtin::GENOM_GEN)]);
+    let root = FileId(0);
+    let lowered = lower::lower(&loaded.ast, root);
+    let mut diagnostics = loaded.diagnostics;
+    diagnostics.extend(lowered.diagnostics);
+    add_include_chains(&loaded.sources, &loaded.included_at, &mut diagnostics);
+    sort_diagnostics(&mut diagnostics);
+    if !lowered.has_component && !lowered.has_interface && !has_errors(&diagnostics) {
+        let span = loaded.sources.file_span(root);
+        diagnostics.push(diagnostics::missing_component(Span::point(span.start)));
+    }
+    Genom3Return {
+        sources: loaded.sources,
+        is_interface_only: !lowered.has_component && lowered.has_interface,
+        component: lowered.component,
+        diagnostics,
+        pragmas: loaded.pragmas,
+        ast: loaded.ast,
+    }
+}
+
+fn has_errors(d: &[Diagnostic]) -> bool {
+    d.iter().any(|d| d.code == genom_model::Code::Syntax)
+}
+
+/// Appends "included from here" labels (innermost first) to diagnostics
+/// whose primary span lies in an included file.
+fn add_include_chains(
+    sources: &SourceMap,
+    included_at: &std::collections::BTreeMap<FileId, Span>,
+    diagnostics: &mut [Diagnostic],
+) {
+    for d in diagnostics {
+        let mut file = sources.file_of(d.span().start);
+        let mut depth = 0;
+        while let Some(at) = file.and_then(|f| included_at.get(&f)) {
+            *d = d.clone().with_label(*at, "included from here");
+            file = sources.file_of(at.start);
+            depth += 1;
+            if depth > 64 {
+                break;
+            }
+        }
+    }
+}
