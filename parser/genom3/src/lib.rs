@@ -111,7 +111,8 @@ pub fn load(path: &Path, options: &Genom3Options) -> Result<Genom3Return, LoadEr
 pub fn load_with(path: &Path, text: String, search: &[PathBuf], loader: &dyn Loader) -> Genom3Return {
     let loaded = load::load_all(path, text, search, loader, &[(builtin::PATH, builtin::GENOM_GEN)]);
     let root = FileId(0);
-    let lowered = lower::lower(&loaded.ast, root);
+    let builtin = FileId(u32::try_from(loaded.sources.files().count().saturating_sub(1)).unwrap_or(0));
+    let lowered = lower::lower(&loaded.ast, builtin);
     let mut diagnostics = loaded.diagnostics;
     diagnostics.extend(lowered.diagnostics);
     add_include_chains(&loaded.sources, &loaded.included_at, &mut diagnostics);

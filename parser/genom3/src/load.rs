@@ -232,9 +232,10 @@ impl Session<'_> {
                         break;
                     };
                     let end = stmt.as_span().end();
+                    let start = here + u32::try_from(stmt.as_span().start()).unwrap_or(0);
                     let builder = Builder { base: here };
                     if let Some(s) = builder.statement(&stmt) {
-                        out.push((here, s));
+                        out.push((start, s));
                     }
                     if end == 0 {
                         break;

@@ -1,9 +1,112 @@
-//! Lowering stub.
+//! Lowering the GenoM3 AST into the one model
+//! ([`genom_model::component::Component`], with GenoM3-only facts in
+//! [`genom_model::component::genom3::Genom3Info`]): IDL types and constants
+//! first (`types.rs`), then the component with the interfaces it provides
+//! and uses inlined (`component.rs`: ids, ports, tasks, services, codels and
+//! their parameters), then GenoM3's static checks on every state machine
+//! (`checks.rs`).
+
+mod checks;
+mod component;
+mod types;
+
+use std::collections::BTreeMap;
+
 use genom_model::component::Component;
 use genom_model::{Diagnostic, FileId};
-use crate::ast::Ast;
-/// Lowered.
+
+use crate::ast::{self, Ast, Export, Statement};
+use types::Types;
+
+/// What lowering produces.
 #[derive(Debug, Default)]
-pub struct LowerReturn { pub component: Option<Component>, pub diagnostics: Vec<Diagnostic>, pub has_component: bool, pub has_interface: bool }
-/// Lowers.
-pub fn lower(ast: &Ast, _root: FileId) -> LowerReturn { let _ = ast; LowerReturn::default() }
+pub struct LowerReturn {
+    /// The component (`None` when the files define none).
+    pub component: Option<Component>,
+    /// Name-resolution and static-check diagnostics.
+    pub diagnostics: Vec<Diagnostic>,
+    /// True when a `component` was found.
+    pub has_component: bool,
+    /// True when an `interface` was found outside the built-in file.
+    pub has_interface: bool,
+}
+
+/// The closest of `candidates` to `name`, owned (for "did you mean").
+pub(crate) fn closest_hint<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a String>,
+) -> Option<String> {
+    genom_model::diagnostic::closest(name, candidates.into_iter().map(String::as_str))
+        .map(str::to_owned)
+}
+
+/// Lowers every statement. `builtin` is the file of the built-in `genom`
+/// interface (its interface does not make a file interface-only).
+pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
+    let mut types = Types::default();
+    let mut components: Vec<&ast::Component> = Vec::new();
+    let mut interfaces: BTreeMap<String, &ast::Component> = BTreeMap::new();
+    let mut has_interface = false;
+    for (file, stmt) in &ast.statements {
+        match stmt {
+            Statement::Idl(d) => types.definition(d, &[]),
+            Statement::Component(c) => {
+                let scope = [c.name.name.clone()];
+                for e in &c.body {
+                    if let Export::Idl(d) = e {
+                        types.definition(d, &scope);
+                    }
+                }
+                if c.is_interface {
+                    has_interface |= *file != builtin;
+                    interfaces.entry(c.name.name.clone()).or_insert(c);
+                } else {
+                    components.push(c);
+                }
+            }
+        }
+    }
+    let mut diagnostics = Vec::new();
+    let first = components.first().copied();
+    for extra in components.iter().skip(1) {
+        if let Some(first) = first {
+            diagnostics.push(crate::diagnostics::duplicate(
+                "component",
+                &extra.name.name,
+                extra.name.span,
+                first.name.span,
+            ));
+        }
+    }
+    // An interface-only file is still resolved (to report its mistakes),
+    // through its interfaces read as a component.
+    let target = first.or_else(|| {
+        interfaces
+            .values()
+            .find(|i| {
+                ast.statements
+                    .iter()
+                    .any(|(f, s)| *f != builtin && matches!(s, Statement::Component(c) if std::ptr::eq(c, **i)))
+            })
+            .copied()
+    });
+    let mut component = None;
+    if let Some(target) = target {
+        let mut ctx = component::Ctx::new(types, &interfaces);
+        ctx.component(target);
+        checks::run(&mut ctx);
+        let (c, d) = ctx.finish();
+        diagnostics.extend(d);
+        if first.is_some() {
+            component = Some(c);
+        }
+    } else {
+        diagnostics.extend(types.diagnostics);
+    }
+    LowerReturn {
+        component,
+        diagnostics,
+        has_component: first.is_some(),
+        has_interface,
+    }
+}
