@@ -155,6 +155,8 @@ codes! {
     IgnoredDirective = "ignored-directive", Advice, "a GenoM3 preprocessor directive that is ignored";
     /// A GenoM3 `yield` or state naming no state of its owner.
     UnknownState = "unknown-state", Error, "a GenoM3 codel yields to, or runs in, a state that no codel of its owner declares";
+    /// A GenoM3 codel state that no yield from `start` or `stop` reaches.
+    UnreachableState = "unreachable-state", Error, "a GenoM3 codel state that no path of yields from `start` or `stop` reaches";
     /// A GenoM3 `stop` codel from which `ether` cannot be reached.
     StopNoEther = "stop-no-ether", Error, "a GenoM3 `codel<stop>` from which no path of yields reaches `ether`";
     /// A GenoM3 `async` codel sharing data with a codel of another task.

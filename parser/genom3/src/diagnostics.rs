@@ -160,10 +160,10 @@ pub(crate) fn unknown_state(name: &str, span: Span, owner: &str, hint: Option<&s
 /// A state no yield reaches.
 pub(crate) fn unreachable_state(name: &str, span: Span, owner: &str) -> Diagnostic {
     Diagnostic::new(
-        Code::UnreachableCodel,
+        Code::UnreachableState,
         format!("state `{name}` of `{owner}` is never reached"),
         span,
-        "no yield leads here from `start`",
+        "no yield leads here from `start` or `stop`",
     )
 }
 

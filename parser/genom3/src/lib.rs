@@ -14,7 +14,8 @@
 //!   could be lowered), `diagnostics` (sorted), `pragmas`
 //!   (`#pragma require/provides/…`, in order), `is_interface_only`, `ast`.
 //! - [`looks_like_genom3`]`(text) -> bool`: dialect detection by syntax.
-//! - [`wcet::parse_wcet`] / [`wcet::apply_wcets`]: the WCET side file.
+//! - [`add_wcet_file`], [`wcet::parse_wcet`], [`wcet::apply_wcets`]: the
+//!   WCET side file (`OWNER.STATE DURATION` lines).
 //! - [`explain::explanation`]: long texts of the codes this crate adds.
 //!
 //! # Pipeline
@@ -90,20 +91,23 @@ pub fn load(path: &Path, options: &Genom3Options) -> Result<Genom3Return, LoadEr
     }
     let mut out = load_with(path, text, &search, &FsLoader);
     if let Some(wcet_path) = &options.wcet_file {
-        match FsLoader.load(wcet_path) {
-            Ok(text) => {
-                let file = out.sources.add(wcet_path, text);
-                if let Some(c) = out.component.as_mut() {
-                    let parsed = wcet::parse_wcet(&out.sources, file);
-                    out.diagnostics.extend(parsed.diagnostics);
-                    out.diagnostics.extend(wcet::apply_wcets(c, &parsed.entries));
-                }
-            }
-            Err(e) => return Err(e),
-        }
-        sort_diagnostics(&mut out.diagnostics);
+        let text = FsLoader.load(wcet_path)?;
+        add_wcet_file(&mut out, wcet_path, text);
     }
     Ok(out)
+}
+
+/// Reads a WCET side file (already loaded as `text`) into `out`: the file
+/// joins `out.sources`, its entries set the component's codel WCETs, and
+/// its `bad-wcet` errors join `out.diagnostics`.
+pub fn add_wcet_file(out: &mut Genom3Return, path: &Path, text: String) {
+    let file = out.sources.add(path, text);
+    let parsed = wcet::parse_wcet(&out.sources, file);
+    out.diagnostics.extend(parsed.diagnostics);
+    if let Some(c) = out.component.as_mut() {
+        out.diagnostics.extend(wcet::apply_wcets(c, &parsed.entries));
+    }
+    sort_diagnostics(&mut out.diagnostics);
 }
 
 /// Loads already-read text as the checked file; includes go through

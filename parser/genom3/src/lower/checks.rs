@@ -54,15 +54,27 @@ fn machine(ctx: &mut Ctx<'_>, what: &str, owner: &str, span: Span, codels: &[Fsm
         }
     }
     let reach = |from: &str| reachable(codels, from);
+    let reach_states = |from: &str| -> BTreeSet<String> {
+        let mut out: BTreeSet<String> = reach(from)
+            .iter()
+            .flat_map(|&i| codels[i].yields.iter().map(|y| y.state.name.clone()))
+            .collect();
+        out.insert(from.to_owned());
+        out
+    };
+    // A codel is reached when one of its states is: it then runs in all of
+    // them.
     let mut reached = reach("start");
     reached.extend(reach("stop"));
-    for (name, span) in &states {
-        if !reached.contains(*name) {
-            ctx.diags.push(diagnostics::unreachable_state(name, *span, owner));
+    for (i, c) in codels.iter().enumerate() {
+        if !reached.contains(&i) {
+            for s in &c.states {
+                ctx.diags.push(diagnostics::unreachable_state(&s.name, s.span, owner));
+            }
         }
     }
     if let Some(stop) = states.get("stop") {
-        if !reach("stop").contains("ether") {
+        if !reach_states("stop").contains("ether") {
             ctx.diags.push(diagnostics::stop_no_ether(owner, *stop));
         }
     }
@@ -95,11 +107,8 @@ fn async_sharing(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Op
     for (owner, _, codels, thread) in machines {
         let is_task = ctx.c.service_named(owner).is_none();
         let from_start = reachable(codels, "start");
-        for c in codels {
-            if is_task
-                && (c.states.iter().any(|s| s.name == "start")
-                    || !c.states.iter().any(|s| from_start.contains(&s.name)))
-            {
+        for (i, c) in codels.iter().enumerate() {
+            if is_task && (c.states.iter().any(|s| s.name == "start") || !from_start.contains(&i)) {
                 continue;
             }
             others.push((owner.clone(), *thread, c));
@@ -139,16 +148,17 @@ fn async_sharing(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Op
     ctx.diags.extend(found);
 }
 
-fn reachable(codels: &[FsmCodel], from: &str) -> BTreeSet<String> {
+/// The codels (indices) reached from the codel running in state `from`,
+/// following yields.
+fn reachable(codels: &[FsmCodel], from: &str) -> BTreeSet<usize> {
+    let owner = |state: &str| codels.iter().position(|c| c.states.iter().any(|x| x.name == state));
     let mut seen = BTreeSet::new();
-    let mut queue = VecDeque::from([from.to_owned()]);
-    while let Some(s) = queue.pop_front() {
-        if !seen.insert(s.clone()) {
+    let mut queue: VecDeque<usize> = owner(from).into_iter().collect();
+    while let Some(i) = queue.pop_front() {
+        if !seen.insert(i) {
             continue;
         }
-        for c in codels.iter().filter(|c| c.states.iter().any(|x| x.name == s)) {
-            queue.extend(c.yields.iter().map(|y| y.state.name.clone()));
-        }
+        queue.extend(codels[i].yields.iter().filter_map(|y| owner(&y.state.name)));
     }
     seen
 }

@@ -532,7 +532,8 @@ impl<'a> Ctx<'a> {
             self.control_codel(id, "codel", f);
         }
         if s.kind == ast::ServiceKind::Activity {
-            if self.c.services[id].thread.is_none() && !fsm.is_empty() {
+            let names_task = s.properties.iter().any(|p| matches!(p.kind, PropertyKind::Task(_)));
+            if self.c.services[id].thread.is_none() && !fsm.is_empty() && !names_task {
                 self.diags.push(Diagnostic::new(
                     Code::MissingThread,
                     format!("activity `{}` has codels but no `task`", s.name.name),
