@@ -32,7 +32,10 @@ fn main() {
             }
         };
         for d in &out.diagnostics {
-            println!("{}", render_diagnostic(&out.sources, d, HumanOptions::default()));
+            println!(
+                "{}",
+                render_diagnostic(&out.sources, d, HumanOptions::default())
+            );
         }
         match &out.component {
             Some(c) => {

@@ -149,7 +149,11 @@ impl Builder {
         let ps = parts(p);
         let multiple = ps.iter().any(|c| c.as_rule() == Rule::kw_multiple);
         let dir = ps.iter().find(|c| c.as_rule() == Rule::port_dir)?;
-        let dir = if dir.as_str().trim() == "in" { PortDir::In } else { PortDir::Out };
+        let dir = if dir.as_str().trim() == "in" {
+            PortDir::In
+        } else {
+            PortDir::Out
+        };
         let ty = ps.iter().find(|c| c.as_rule() == Rule::type_spec)?;
         let name = ps.iter().find(|c| c.as_rule() == Rule::identifier)?;
         Some(Port {
@@ -411,7 +415,9 @@ impl Builder {
         span: Span,
     ) -> Codel {
         let ps = parts(call);
-        let function = ps.first().map_or_else(|| self.ident(call), |f| self.ident(f));
+        let function = ps
+            .first()
+            .map_or_else(|| self.ident(call), |f| self.ident(f));
         let params = ps.iter().skip(1).map(|c| self.codel_param(c)).collect();
         Codel {
             is_async,
@@ -524,7 +530,11 @@ impl Builder {
         let span = self.span(&inner);
         match inner.as_rule() {
             Rule::base_type => Some(TypeSpec::Base(
-                inner.as_str().split_whitespace().collect::<Vec<_>>().join(" "),
+                inner
+                    .as_str()
+                    .split_whitespace()
+                    .collect::<Vec<_>>()
+                    .join(" "),
                 span,
             )),
             Rule::scoped_name => Some(TypeSpec::Named(self.ident(&inner))),
@@ -660,7 +670,9 @@ fn literal(l: &P<'_>, b: &Builder) -> ExprKind {
         Rule::kw_false => ExprKind::Bool(false),
         Rule::integer_lit => {
             let digits = t.trim_end_matches(['u', 'U', 'l', 'L']);
-            let v = if let Some(h) = digits.strip_prefix("0x").or_else(|| digits.strip_prefix("0X"))
+            let v = if let Some(h) = digits
+                .strip_prefix("0x")
+                .or_else(|| digits.strip_prefix("0X"))
             {
                 i128::from_str_radix(h, 16)
             } else if digits.len() > 1 && digits.starts_with('0') {
@@ -670,9 +682,11 @@ fn literal(l: &P<'_>, b: &Builder) -> ExprKind {
             };
             ExprKind::Int(v.unwrap_or(0))
         }
-        Rule::float_lit => {
-            ExprKind::Float(t.trim_end_matches(['f', 'F', 'l', 'L', 'd', 'D']).parse().unwrap_or(0.0))
-        }
+        Rule::float_lit => ExprKind::Float(
+            t.trim_end_matches(['f', 'F', 'l', 'L', 'd', 'D'])
+                .parse()
+                .unwrap_or(0.0),
+        ),
         Rule::char_lit => {
             let body = unescape(t.get(1..t.len().saturating_sub(1)).unwrap_or(""));
             ExprKind::Char(body.chars().next().unwrap_or('\0'))

@@ -2,7 +2,8 @@
 //! without parsing it.
 
 /// True when `text` reads as GenoM3: a preprocessor line (`#pragma`,
-/// `#include`, `#ifndef`...), a colon-less property such as `version "1";`,
+/// `#ifndef`, `#define`...; `#include` is LANGUAGE.md syntax too), a
+/// colon-less property such as `version "1";`,
 /// or a GenoM3-only keyword (`task`, `activity`, `function`, `attribute`,
 /// `port`, `interface`) opening a line.
 pub fn looks_like_genom3(text: &str) -> bool {
@@ -27,7 +28,8 @@ pub fn looks_like_genom3(text: &str) -> bool {
         }
         if let Some(directive) = line.strip_prefix('#') {
             let word = directive.trim_start();
-            if ["pragma", "include", "ifndef", "ifdef", "define", "if "]
+            // `#include` is also LANGUAGE.md syntax: it decides nothing.
+            if ["pragma", "ifndef", "ifdef", "define", "if "]
                 .iter()
                 .any(|w| word.starts_with(w))
             {
@@ -37,8 +39,10 @@ pub fn looks_like_genom3(text: &str) -> bool {
         let mut words = line.split_whitespace();
         let first = words.next().unwrap_or("");
         let second = words.next().unwrap_or("");
-        if matches!(first, "version" | "lang" | "email" | "require" | "codels-require")
-            && second.starts_with('"')
+        if matches!(
+            first,
+            "version" | "lang" | "email" | "require" | "codels-require"
+        ) && second.starts_with('"')
         {
             return true;
         }
@@ -61,7 +65,10 @@ mod tests {
         assert!(looks_like_genom3("#pragma require \"x\"\ncomponent a {};"));
         assert!(looks_like_genom3("component a {\n  version \"1.0\";\n};"));
         assert!(looks_like_genom3("component a {\n  activity go() { };\n};"));
-        assert!(looks_like_genom3("/* c\n*/\n#include \"x.gen\"\n"));
+        assert!(looks_like_genom3("/* c\n*/\n#ifndef X\n"));
+        assert!(!looks_like_genom3(
+            "#include \"x.idl\"\ncomponent c {\n  lang: C;\n};\n"
+        ));
     }
 
     #[test]

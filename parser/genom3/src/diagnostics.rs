@@ -107,9 +107,20 @@ pub(crate) fn duplicate(what: &str, name: &str, span: Span, first: Span) -> Diag
 }
 
 /// An unknown name, with a suggestion.
-pub(crate) fn unknown(code: Code, what: &str, name: &str, span: Span, hint: Option<&str>) -> Diagnostic {
-    Diagnostic::new(code, format!("unknown {what} `{name}`"), span, format!("no {what} of this name"))
-        .with_optional_help(hint.map(|h| format!("did you mean `{h}`?")))
+pub(crate) fn unknown(
+    code: Code,
+    what: &str,
+    name: &str,
+    span: Span,
+    hint: Option<&str>,
+) -> Diagnostic {
+    Diagnostic::new(
+        code,
+        format!("unknown {what} `{name}`"),
+        span,
+        format!("no {what} of this name"),
+    )
+    .with_optional_help(hint.map(|h| format!("did you mean `{h}`?")))
 }
 
 /// A property where it has no meaning.
@@ -179,7 +190,13 @@ pub(crate) fn stop_no_ether(owner: &str, span: Span) -> Diagnostic {
 }
 
 /// An async codel sharing ids data with another task.
-pub(crate) fn async_shared(codel: &str, member: &str, span: Span, other: &str, other_span: Span) -> Diagnostic {
+pub(crate) fn async_shared(
+    codel: &str,
+    member: &str,
+    span: Span,
+    other: &str,
+    other_span: Span,
+) -> Diagnostic {
     Diagnostic::new(
         Code::AsyncSharedData,
         format!("async codel `{codel}` shares ids member `{member}` with another task"),
@@ -194,4 +211,26 @@ pub(crate) fn async_shared(codel: &str, member: &str, span: Span, other: &str, o
 pub(crate) fn bad_wcet(span: Span, message: String, hint: Option<&str>) -> Diagnostic {
     Diagnostic::new(Code::BadWcet, message, span, "in the WCET file")
         .with_optional_help(hint.map(|h| format!("did you mean `{h}`?")))
+}
+
+/// A port whose type is not a named type.
+pub(crate) fn anonymous_port_type(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::InvalidAttribute,
+        format!("port `{name}` has an anonymous type"),
+        span,
+        "a port's type must be a named type",
+    )
+    .with_help("declare it first, e.g. `typedef double speed_t;`, and use the name")
+}
+
+/// A task period or delay that is not a multiple of the clock rate.
+pub(crate) fn off_clock(what: &str, task: &str, span: Span, clock: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::InvalidAttribute,
+        format!("the {what} of task `{task}` is not a multiple of the `clock-rate`"),
+        span,
+        "not a whole number of clock ticks",
+    )
+    .with_label(clock, "clock-rate set here")
 }

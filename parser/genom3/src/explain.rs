@@ -131,7 +131,10 @@ mod tests {
             Code::UnknownInterface,
             Code::BadWcet,
         ] {
-            assert!(explanation(code).is_some_and(|t| t.contains("```")), "{code}");
+            assert!(
+                explanation(code).is_some_and(|t| t.contains("```")),
+                "{code}"
+            );
         }
         assert!(explanation(Code::Syntax).is_none());
     }

@@ -12,7 +12,9 @@
 //! - [`Genom3Return`]: `sources` (one `FileId` per file, the checked file
 //!   first), `component` (`None` for interface-only files or when nothing
 //!   could be lowered), `diagnostics` (sorted), `pragmas`
-//!   (`#pragma require/provides/…`, in order), `is_interface_only`, `ast`.
+//!   (`#pragma require/provides/…`, in order), `is_interface_only` (no
+//!   component, but interfaces or IDL definitions: not an error, as in
+//!   genom3), `ast`.
 //! - [`looks_like_genom3`]`(text) -> bool`: dialect detection by syntax.
 //! - [`add_wcet_file`], [`wcet::parse_wcet`], [`wcet::apply_wcets`]: the
 //!   WCET side file (`OWNER.STATE DURATION` lines).
@@ -105,34 +107,56 @@ pub fn add_wcet_file(out: &mut Genom3Return, path: &Path, text: String) {
     let parsed = wcet::parse_wcet(&out.sources, file);
     out.diagnostics.extend(parsed.diagnostics);
     if let Some(c) = out.component.as_mut() {
-        out.diagnostics.extend(wcet::apply_wcets(c, &parsed.entries));
+        out.diagnostics
+            .extend(wcet::apply_wcets(c, &parsed.entries));
     }
     sort_diagnostics(&mut out.diagnostics);
 }
 
 /// Loads already-read text as the checked file; includes go through
 /// `loader` and are searched in `search` after the including file's folder.
-pub fn load_with(path: &Path, text: String, search: &[PathBuf], loader: &dyn Loader) -> Genom3Return {
-    let loaded = load::load_all(path, text, search, loader, &[(builtin::PATH, builtin::GENOM_GEN)]);
+pub fn load_with(
+    path: &Path,
+    text: String,
+    search: &[PathBuf],
+    loader: &dyn Loader,
+) -> Genom3Return {
+    let loaded = load::load_all(
+        path,
+        text,
+        search,
+        loader,
+        &[(builtin::PATH, builtin::GENOM_GEN)],
+    );
     let root = FileId(0);
-    let builtin = FileId(u32::try_from(loaded.sources.files().count().saturating_sub(1)).unwrap_or(0));
+    let builtin =
+        FileId(u32::try_from(loaded.sources.files().count().saturating_sub(1)).unwrap_or(0));
     let lowered = lower::lower(&loaded.ast, builtin);
     let mut diagnostics = loaded.diagnostics;
     diagnostics.extend(lowered.diagnostics);
     add_include_chains(&loaded.sources, &loaded.included_at, &mut diagnostics);
     sort_diagnostics(&mut diagnostics);
-    if !lowered.has_component && !lowered.has_interface && !has_errors(&diagnostics) {
+    // As genom3 does, a file with interfaces or IDL only is accepted: only a
+    // file with nothing at all (no component, interface or definition)
+    // lacks a component.
+    let empty = !ast_has_own_statement(&loaded.ast, builtin);
+    if empty && !has_errors(&diagnostics) {
         let span = loaded.sources.file_span(root);
         diagnostics.push(diagnostics::missing_component(Span::point(span.start)));
     }
     Genom3Return {
         sources: loaded.sources,
-        is_interface_only: !lowered.has_component && lowered.has_interface,
+        is_interface_only: !lowered.has_component && !empty,
         component: lowered.component,
         diagnostics,
         pragmas: loaded.pragmas,
         ast: loaded.ast,
     }
+}
+
+/// Whether some statement comes from a file other than the built-in one.
+fn ast_has_own_statement(ast: &ast::Ast, builtin: FileId) -> bool {
+    ast.statements.iter().any(|(f, _)| *f != builtin)
 }
 
 fn has_errors(d: &[Diagnostic]) -> bool {

@@ -147,7 +147,10 @@ impl Session<'_> {
         let (text, base, dir) = (
             file.text.clone(),
             file.base,
-            file.path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            file.path
+                .parent()
+                .map(Path::to_path_buf)
+                .unwrap_or_default(),
         );
         let mut includes = Vec::new();
         let scanned = preprocess::scan(&text, base, defines, &mut |inc, defs| {
@@ -167,7 +170,12 @@ impl Session<'_> {
         );
     }
 
-    fn include(&mut self, dir: &Path, inc: &Include, defines: &mut BTreeSet<String>) -> Option<FileId> {
+    fn include(
+        &mut self,
+        dir: &Path,
+        inc: &Include,
+        defines: &mut BTreeSet<String>,
+    ) -> Option<FileId> {
         let mut searched = Vec::new();
         let mut found = None;
         let written = Path::new(&inc.path);
@@ -185,9 +193,9 @@ impl Session<'_> {
             }
         }
         let Some(path) = found else {
-            self.out
-                .diagnostics
-                .push(diagnostics::include_not_found(inc.span, &inc.path, &searched));
+            self.out.diagnostics.push(diagnostics::include_not_found(
+                inc.span, &inc.path, &searched,
+            ));
             return None;
         };
         let key = normalise(&path);

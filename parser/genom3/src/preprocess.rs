@@ -156,8 +156,10 @@ pub(crate) fn scan(
                     k => k,
                 };
                 if !matches!(kind, "require" | "provides" | "masquerade") {
-                    out.diagnostics
-                        .push(diagnostics::ignored_directive(span, &format!("pragma {kind}")));
+                    out.diagnostics.push(diagnostics::ignored_directive(
+                        span,
+                        &format!("pragma {kind}"),
+                    ));
                 }
                 out.pragmas.push(Pragma {
                     kind: kind.to_owned(),
@@ -172,7 +174,8 @@ pub(crate) fn scan(
         }
     }
     for c in stack {
-        out.diagnostics.push(diagnostics::unterminated_conditional(c.span));
+        out.diagnostics
+            .push(diagnostics::unterminated_conditional(c.span));
     }
     out.text = blanked;
     out
@@ -182,7 +185,13 @@ pub(crate) fn scan(
 /// line numbers are unchanged).
 fn blank(line: &str) -> String {
     line.chars()
-        .map(|c| if c == '\n' || c == '\r' { c.to_string() } else { " ".repeat(c.len_utf8()) })
+        .map(|c| {
+            if c == '\n' || c == '\r' {
+                c.to_string()
+            } else {
+                " ".repeat(c.len_utf8())
+            }
+        })
         .collect()
 }
 
@@ -274,7 +283,11 @@ fn eval_condition(expr: &str, defines: &BTreeSet<String>) -> bool {
         return !eval_condition(e, defines);
     }
     if let Some(e) = expr.strip_prefix("defined") {
-        let name = e.trim().trim_start_matches('(').trim_end_matches(')').trim();
+        let name = e
+            .trim()
+            .trim_start_matches('(')
+            .trim_end_matches(')')
+            .trim();
         return defines.contains(name);
     }
     let inner = expr.trim_start_matches('(').trim_end_matches(')').trim();
@@ -296,7 +309,10 @@ mod tests {
     #[test]
     fn blanks_directives_and_keeps_offsets() {
         let s = run("#pragma require \"a\"\nstruct a { long b; };\n");
-        assert_eq!(s.text.len(), "#pragma require \"a\"\nstruct a { long b; };\n".len());
+        assert_eq!(
+            s.text.len(),
+            "#pragma require \"a\"\nstruct a { long b; };\n".len()
+        );
         assert!(s.text.starts_with("                   \nstruct"));
         assert_eq!(s.pragmas[0].kind, "require");
         assert_eq!(s.pragmas[0].args, "\"a\"");
@@ -327,7 +343,11 @@ mod tests {
     #[test]
     fn includes_in_order() {
         let s = run("#include \"a.idl\"\n#include <b/c.gen>\n");
-        let paths: Vec<_> = s.includes.iter().map(|i| (i.path.as_str(), i.angled)).collect();
+        let paths: Vec<_> = s
+            .includes
+            .iter()
+            .map(|i| (i.path.as_str(), i.angled))
+            .collect();
         assert_eq!(paths, vec![("a.idl", false), ("b/c.gen", true)]);
     }
 }

@@ -56,8 +56,14 @@ fn describe(rule: Rule) -> String {
         return fixed.to_owned();
     }
     let name = format!("{rule:?}");
-    match name.strip_prefix("kw_").or_else(|| name.strip_prefix("prop_")) {
-        Some(k) => format!("`{}`", k.replace("real_time", "real-time").replace('_', "-")),
+    match name
+        .strip_prefix("kw_")
+        .or_else(|| name.strip_prefix("prop_"))
+    {
+        Some(k) => format!(
+            "`{}`",
+            k.replace("real_time", "real-time").replace('_', "-")
+        ),
         None => name.replace('_', " "),
     }
 }
@@ -83,7 +89,9 @@ pub(crate) fn error(err: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, us
         [] => format!("unexpected {found}"),
         [one] => format!("expected {one}, found {found}"),
         many => {
-            let (last, init) = many.split_last().map_or((String::new(), &[][..]), |(l, i)| (l.clone(), i));
+            let (last, init) = many
+                .split_last()
+                .map_or((String::new(), &[][..]), |(l, i)| (l.clone(), i));
             format!("expected {} or {last}, found {found}", init.join(", "))
         }
     };
@@ -102,7 +110,8 @@ fn token_len(text: &str, pos: usize) -> usize {
         return 0;
     };
     if c.is_ascii_alphanumeric() || c == '_' {
-        rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len())
+        rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len())
     } else {
         c.len_utf8()
     }
@@ -120,10 +129,21 @@ fn found_at(text: &str, pos: usize) -> String {
 /// line (after `pos`'s line) that begins a top-level statement.
 pub(crate) fn resume_after(text: &str, pos: usize) -> usize {
     const STARTS: [&str; 10] = [
-        "component", "interface", "module", "struct", "typedef", "const", "enum", "union",
-        "exception", "native",
+        "component",
+        "interface",
+        "module",
+        "struct",
+        "typedef",
+        "const",
+        "enum",
+        "union",
+        "exception",
+        "native",
     ];
-    let mut offset = text.get(pos..).and_then(|r| r.find('\n')).map_or(text.len(), |n| pos + n + 1);
+    let mut offset = text
+        .get(pos..)
+        .and_then(|r| r.find('\n'))
+        .map_or(text.len(), |n| pos + n + 1);
     while offset < text.len() {
         let line = &text[offset..];
         if STARTS.iter().any(|s| {

@@ -50,7 +50,9 @@ pub fn duration_ns(text: &str) -> Option<u64> {
         _ => return None,
     };
     let (int, frac) = number.split_once('.').unwrap_or((number, ""));
-    if int.is_empty() && frac.is_empty() || !int.chars().chain(frac.chars()).all(|c| c.is_ascii_digit()) {
+    if int.is_empty() && frac.is_empty()
+        || !int.chars().chain(frac.chars()).all(|c| c.is_ascii_digit())
+    {
         return None;
     }
     let int: u128 = if int.is_empty() { 0 } else { int.parse().ok()? };
@@ -114,7 +116,10 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
                 });
             }
             _ => out.diagnostics.push(diagnostics::bad_wcet(
-                at(words[0].0, content.trim_end().len().saturating_sub(words[0].0)),
+                at(
+                    words[0].0,
+                    content.trim_end().len().saturating_sub(words[0].0),
+                ),
                 "expected `OWNER.STATE DURATION`".to_owned(),
                 None,
             )),
@@ -128,7 +133,10 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
 pub fn apply_wcets(c: &mut Component, entries: &[WcetEntry]) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     for e in entries {
-        let wcet = Duration { ns: e.ns, span: e.span };
+        let wcet = Duration {
+            ns: e.ns,
+            span: e.span,
+        };
         if let Some(sid) = c.service_named(&e.owner) {
             match c.codel_named(sid, &e.state) {
                 Some(codel) => {

@@ -15,7 +15,9 @@ fn corpus() -> Option<PathBuf> {
 }
 
 fn files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     let mut entries: Vec<_> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
     entries.sort();
     for p in entries {
@@ -65,12 +67,19 @@ fn every_component_loads_without_errors_with_the_stubs() {
     };
     let mut failures = Vec::new();
     let mut components = 0;
-    for path in all.iter().filter(|p| p.extension().is_some_and(|e| e == "gen")) {
+    for path in all
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "gen"))
+    {
         let out = load(path, &options).expect("readable");
         if out.component.is_some() {
             components += 1;
         }
-        for d in out.diagnostics.iter().filter(|d| d.severity == Severity::Error) {
+        for d in out
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+        {
             failures.push(render_diagnostic(&out.sources, d, HumanOptions::default()));
         }
     }

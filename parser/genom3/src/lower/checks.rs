@@ -6,9 +6,9 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
-use genom_model::component::genom3::{FsmCodel, ParamSource};
-use genom_model::component::ThreadId;
 use genom_model::Span;
+use genom_model::component::ThreadId;
+use genom_model::component::genom3::{FsmCodel, ParamSource};
 
 use super::closest_hint;
 use super::component::Ctx;
@@ -40,7 +40,8 @@ fn machine(ctx: &mut Ctx<'_>, what: &str, owner: &str, span: Span, codels: &[Fsm
         }
     }
     if !states.contains_key("start") {
-        ctx.diags.push(diagnostics::missing_start(what, owner, span));
+        ctx.diags
+            .push(diagnostics::missing_start(what, owner, span));
     }
     let names: Vec<String> = states.keys().map(|s| (*s).to_owned()).collect();
     for c in codels {
@@ -48,8 +49,12 @@ fn machine(ctx: &mut Ctx<'_>, what: &str, owner: &str, span: Span, codels: &[Fsm
             let n = y.state.name.as_str();
             if n != "ether" && !states.contains_key(n) {
                 let hint = closest_hint(n, names.iter());
-                ctx.diags
-                    .push(diagnostics::unknown_state(n, y.state.span, owner, hint.as_deref()));
+                ctx.diags.push(diagnostics::unknown_state(
+                    n,
+                    y.state.span,
+                    owner,
+                    hint.as_deref(),
+                ));
             }
         }
     }
@@ -69,7 +74,8 @@ fn machine(ctx: &mut Ctx<'_>, what: &str, owner: &str, span: Span, codels: &[Fsm
     for (i, c) in codels.iter().enumerate() {
         if !reached.contains(&i) {
             for s in &c.states {
-                ctx.diags.push(diagnostics::unreachable_state(&s.name, s.span, owner));
+                ctx.diags
+                    .push(diagnostics::unreachable_state(&s.name, s.span, owner));
             }
         }
     }
@@ -85,7 +91,12 @@ fn machine(ctx: &mut Ctx<'_>, what: &str, owner: &str, span: Span, codels: &[Fsm
 fn ids_members(c: &FsmCodel) -> BTreeMap<String, bool> {
     let mut out: BTreeMap<String, bool> = BTreeMap::new();
     for p in c.params.iter().filter(|p| p.source == ParamSource::Ids) {
-        let root = p.path.split(['.', '[']).next().unwrap_or_default().to_owned();
+        let root = p
+            .path
+            .split(['.', '['])
+            .next()
+            .unwrap_or_default()
+            .to_owned();
         *out.entry(root).or_default() |= p.dir != "in";
     }
     out
@@ -95,7 +106,13 @@ fn ids_members(c: &FsmCodel) -> BTreeMap<String, bool> {
 fn conflict(a: &BTreeMap<String, bool>, b: &BTreeMap<String, bool>) -> Option<String> {
     a.iter()
         .find(|(m, w)| b.get(*m).is_some_and(|v| **w || *v) || (m.is_empty() && !b.is_empty()))
-        .map(|(m, _)| if m.is_empty() { "ids".to_owned() } else { m.clone() })
+        .map(|(m, _)| {
+            if m.is_empty() {
+                "ids".to_owned()
+            } else {
+                m.clone()
+            }
+        })
 }
 
 /// An `async` codel runs without its task's ids lock: it may share no ids
@@ -118,8 +135,21 @@ fn async_sharing(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Op
         .g
         .codels
         .iter()
-        .filter(|i| ctx.c.codels.get(i.codel).is_some_and(|c| c.kind == genom_model::kinds::CodelKind::Control))
-        .map(|i| (ctx.c.services[ctx.c.codels[i.codel].service].name.name.clone(), i.fsm.clone()))
+        .filter(|i| {
+            ctx.c
+                .codels
+                .get(i.codel)
+                .is_some_and(|c| c.kind == genom_model::kinds::CodelKind::Control)
+        })
+        .map(|i| {
+            (
+                ctx.c.services[ctx.c.codels[i.codel].service]
+                    .name
+                    .name
+                    .clone(),
+                i.fsm.clone(),
+            )
+        })
         .collect();
     let mut found = Vec::new();
     for (owner, _, codels, thread) in machines {
@@ -151,7 +181,11 @@ fn async_sharing(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Op
 /// The codels (indices) reached from the codel running in state `from`,
 /// following yields.
 fn reachable(codels: &[FsmCodel], from: &str) -> BTreeSet<usize> {
-    let owner = |state: &str| codels.iter().position(|c| c.states.iter().any(|x| x.name == state));
+    let owner = |state: &str| {
+        codels
+            .iter()
+            .position(|c| c.states.iter().any(|x| x.name == state))
+    };
     let mut seen = BTreeSet::new();
     let mut queue: VecDeque<usize> = owner(from).into_iter().collect();
     while let Some(i) = queue.pop_front() {

@@ -7,23 +7,20 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use genom_model::component::genom3::{
-    CodelInfo, CodelParam as MParam, FsmCodel, Genom3Info, ParamSource, Port as MPort, Remote,
-    ServiceInfo, Task as MTask, Yield,
-};
-use genom_model::component::types::TypeTable as _;
 use genom_model::component::Idx as _;
-use genom_model::component::{
-    Arg, Call, Codel, CodelId, Component, DataPath, DataRoot, Duration, Field, Named, Next,
-    Outcome, Param, Ref, Service, ServiceId, Step, Structure, StructureId, Thread, ThreadId, Ty,
-    TypeDef, TypeKind, Value,
+use genom_model::component::genom3::{
+    FsmCodel, Genom3Info, Port as MPort, Remote, ServiceInfo, Task as MTask,
 };
-use genom_model::kinds::{CodelKind, DataKind, ServiceKind};
+use genom_model::component::{
+    Component, Duration, Field, Named, Param, Ref, Service, ServiceId, Structure, StructureId,
+    Thread, ThreadId, Ty, TypeDef, TypeKind, Value,
+};
+use genom_model::kinds::{DataKind, ServiceKind};
 use genom_model::{Code, Diagnostic, Span};
 
 use super::closest_hint;
 use super::types::{Types, as_f64};
-use crate::ast::{self, Dir, Export, PathStep, PropertyKind, Source, TimeUnit};
+use crate::ast::{self, Dir, Export, PropertyKind, TimeUnit};
 use crate::diagnostics;
 
 /// One element of the component body with where it comes from.
@@ -42,11 +39,11 @@ pub(crate) struct Ctx<'a> {
     pub(crate) types: Types,
     pub(crate) diags: Vec<Diagnostic>,
     interfaces: &'a BTreeMap<String, &'a ast::Component>,
-    scope: Vec<String>,
-    ids: Option<StructureId>,
+    pub(super) scope: Vec<String>,
+    pub(super) ids: Option<StructureId>,
     /// Per service: parameter and local names (name → (output, index) for
     /// parameters, `None` for locals).
-    locals: BTreeMap<ServiceId, BTreeMap<String, Option<(bool, usize)>>>,
+    pub(super) locals: BTreeMap<ServiceId, BTreeMap<String, Option<(bool, usize)>>>,
     /// FSM owners for the checks: (owner name, span, codels).
     pub(crate) machines: Vec<(String, Span, Vec<FsmCodel>, Option<ThreadId>)>,
 }
@@ -89,13 +86,20 @@ impl<'a> Ctx<'a> {
         (self.c, d)
     }
 
-    fn duration(&mut self, e: &ast::Expr, unit: Option<TimeUnit>, scope: &[String]) -> Option<Duration> {
+    fn duration(
+        &mut self,
+        e: &ast::Expr,
+        unit: Option<TimeUnit>,
+        scope: &[String],
+    ) -> Option<Duration> {
         match self.types.eval(e, scope) {
             Ok(v) => match to_ns(&v, unit) {
                 Some(ns) => Some(Duration { ns, span: e.span }),
                 None => {
-                    self.diags
-                        .push(diagnostics::bad_constant(e.span, "expected a non-negative duration"));
+                    self.diags.push(diagnostics::bad_constant(
+                        e.span,
+                        "expected a non-negative duration",
+                    ));
                     None
                 }
             },
@@ -154,7 +158,11 @@ impl<'a> Ctx<'a> {
             if !seen.insert(format!("{}/{used}", name.name)) {
                 continue;
             }
-            let list = if used { &mut self.g.uses } else { &mut self.g.provides };
+            let list = if used {
+                &mut self.g.uses
+            } else {
+                &mut self.g.provides
+            };
             list.push(Named {
                 name: name.name.clone(),
                 span: name.span,
@@ -198,7 +206,12 @@ impl<'a> Ctx<'a> {
             })
             .collect();
         let parts = self.parts(comp);
-        let owner_scope = |p: &Part<'_>| vec![p.interface.map_or_else(|| comp.name.name.clone(), str::to_owned)];
+        let owner_scope = |p: &Part<'_>| {
+            vec![
+                p.interface
+                    .map_or_else(|| comp.name.name.clone(), str::to_owned),
+            ]
+        };
         // Component properties.
         for p in parts.iter().filter(|p| p.interface.is_none()) {
             if let Export::Property(prop) = p.export {
@@ -220,15 +233,22 @@ impl<'a> Ctx<'a> {
                     .types
                     .by_name
                     .iter()
-                    .filter_map(|(n, id)| n.strip_prefix(&prefix).map(|rest| (format!("{}::{rest}", scope[0]), *id)))
+                    .filter_map(|(n, id)| {
+                        n.strip_prefix(&prefix)
+                            .map(|rest| (format!("{}::{rest}", scope[0]), *id))
+                    })
                     .collect();
                 for (n, id) in nested {
                     self.types.by_name.entry(n).or_insert(id);
                 }
                 for f in new_fields {
                     if let Some(first) = fields.iter().find(|g| g.name == f.name) {
-                        self.diags
-                            .push(diagnostics::duplicate("ids member", &f.name, f.span, first.span));
+                        self.diags.push(diagnostics::duplicate(
+                            "ids member",
+                            &f.name,
+                            f.span,
+                            first.span,
+                        ));
                     } else {
                         fields.push(f);
                     }
@@ -263,10 +283,13 @@ impl<'a> Ctx<'a> {
                 self.task_header(t, &owner_scope(p));
             }
         }
+        self.clock_rate_fits();
         // Services: names first (for interrupts, before, after).
         let mut services: Vec<(&ast::Service, ServiceId, Option<&str>, Vec<String>)> = Vec::new();
         for p in &parts {
-            let Export::Service(s) = p.export else { continue };
+            let Export::Service(s) = p.export else {
+                continue;
+            };
             if p.used {
                 self.g.remotes.push(Remote {
                     name: Named {
@@ -279,8 +302,12 @@ impl<'a> Ctx<'a> {
             }
             if let Some(first) = self.c.service_named(&s.name.name) {
                 let first = self.c.services[first].name.span;
-                self.diags
-                    .push(diagnostics::duplicate("service", &s.name.name, s.name.span, first));
+                self.diags.push(diagnostics::duplicate(
+                    "service",
+                    &s.name.name,
+                    s.name.span,
+                    first,
+                ));
                 continue;
             }
             let id = self.c.services.push(empty_service(s));
@@ -308,6 +335,28 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// Every task period and delay is a multiple of the `clock-rate`.
+    fn clock_rate_fits(&mut self) {
+        let Some(clock) = self.g.clock_rate.filter(|c| c.ns > 0) else {
+            return;
+        };
+        let mut bad = Vec::new();
+        for t in &self.g.tasks {
+            let thread = &self.c.threads[t.thread];
+            for (what, d) in [("period", thread.period), ("delay", t.delay)] {
+                if let Some(d) = d.filter(|d| d.ns % clock.ns != 0) {
+                    bad.push(diagnostics::off_clock(
+                        what,
+                        &thread.name.name,
+                        d.span,
+                        clock.span,
+                    ));
+                }
+            }
+        }
+        self.diags.extend(bad);
+    }
+
     fn component_property(&mut self, prop: &ast::Property) {
         let scope = self.scope.clone();
         match &prop.kind {
@@ -333,20 +382,33 @@ impl<'a> Ctx<'a> {
 
     fn misplaced(&mut self, span: Span, kind: &PropertyKind, owner: &str) {
         let word = property_word(kind);
-        self.diags.push(diagnostics::misplaced_property(span, word, owner));
+        self.diags
+            .push(diagnostics::misplaced_property(span, word, owner));
     }
 
     fn port(&mut self, p: &ast::Port, iface: Option<&str>, used: bool, scope: &[String]) {
         if let Some(first) = self.g.ports.iter().find(|q| q.name.name == p.name.name) {
             let first = first.name.span;
-            self.diags
-                .push(diagnostics::duplicate("port", &p.name.name, p.name.span, first));
+            self.diags.push(diagnostics::duplicate(
+                "port",
+                &p.name.name,
+                p.name.span,
+                first,
+            ));
             return;
+        }
+        if !matches!(p.ty, ast::TypeSpec::Named(_)) {
+            self.diags
+                .push(diagnostics::anonymous_port_type(&p.name.name, p.name.span));
         }
         let ty = self.types.ty(&p.ty, scope);
         let is_out = (p.dir == ast::PortDir::Out) != used;
         let structure = self.c.structures.push(Structure {
-            kind: if is_out { DataKind::Export } else { DataKind::Import },
+            kind: if is_out {
+                DataKind::Export
+            } else {
+                DataKind::Import
+            },
             name: p.name.name.clone(),
             block: "port".to_owned(),
             span: p.name.span,
@@ -370,8 +432,12 @@ impl<'a> Ctx<'a> {
     fn task_header(&mut self, t: &ast::Task, scope: &[String]) {
         if let Some(first) = self.c.thread_named(&t.name.name) {
             let first = self.c.threads[first].name.span;
-            self.diags
-                .push(diagnostics::duplicate("task", &t.name.name, t.name.span, first));
+            self.diags.push(diagnostics::duplicate(
+                "task",
+                &t.name.name,
+                t.name.span,
+                first,
+            ));
             return;
         }
         let mut thread = Thread {
@@ -398,12 +464,16 @@ impl<'a> Ctx<'a> {
                 PropertyKind::Delay(e, u) => info.delay = self.duration(e, *u, scope),
                 PropertyKind::Priority(e) => match self.types.eval(e, scope) {
                     Ok(Value::Int(v)) => thread.priority = i64::try_from(v).unwrap_or(0),
-                    _ => self
-                        .diags
-                        .push(diagnostics::bad_constant(e.span, "expected an integer priority")),
+                    _ => self.diags.push(diagnostics::bad_constant(
+                        e.span,
+                        "expected an integer priority",
+                    )),
                 },
                 PropertyKind::Stack(e, mult) => {
-                    thread.stack = self.types.positive(e, scope).map(|v| v.saturating_mul(*mult));
+                    thread.stack = self
+                        .types
+                        .positive(e, scope)
+                        .map(|v| v.saturating_mul(*mult));
                 }
                 PropertyKind::SchedulingRealTime => info.real_time = true,
                 PropertyKind::Throws(l) => info.throws = self.throws(l, scope),
@@ -419,7 +489,10 @@ impl<'a> Ctx<'a> {
         let mut out = Vec::new();
         for n in list {
             let cands = super::types::candidates(scope, &n.name);
-            let found = cands.iter().find(|c| self.types.exceptions.contains_key(*c)).cloned();
+            let found = cands
+                .iter()
+                .find(|c| self.types.exceptions.contains_key(*c))
+                .cloned();
             match found {
                 Some(q) => out.push(Named {
                     name: q,
@@ -471,10 +544,19 @@ impl<'a> Ctx<'a> {
             match &prop.kind {
                 PropertyKind::Doc(d) => append_doc(&mut self.c.services[id].doc, d),
                 PropertyKind::Task(t) => match self.c.thread_named(&t.name) {
-                    Some(tid) => self.c.services[id].thread = Some(Ref { id: tid, span: t.span }),
+                    Some(tid) => {
+                        self.c.services[id].thread = Some(Ref {
+                            id: tid,
+                            span: t.span,
+                        });
+                    }
                     None => {
-                        let names: Vec<String> =
-                            self.c.threads.values().map(|t| t.name.name.clone()).collect();
+                        let names: Vec<String> = self
+                            .c
+                            .threads
+                            .values()
+                            .map(|t| t.name.name.clone())
+                            .collect();
                         let hint = closest_hint(&t.name, names.iter());
                         self.diags.push(diagnostics::unknown(
                             Code::UnknownThread,
@@ -492,20 +574,30 @@ impl<'a> Ctx<'a> {
                             let all: Vec<ServiceId> = self.c.services.ids().collect();
                             self.c.services[id]
                                 .stops
-                                .extend(all.into_iter().map(|sid| Ref { id: sid, span: n.span }));
+                                .extend(all.into_iter().map(|sid| Ref {
+                                    id: sid,
+                                    span: n.span,
+                                }));
                         } else if let Some(r) = self.service_ref(n) {
                             self.c.services[id].stops.push(r);
                         }
                     }
                 }
-                PropertyKind::Before(l) => info.before = l.iter().filter_map(|n| self.service_ref(n)).collect(),
-                PropertyKind::After(l) => info.after = l.iter().filter_map(|n| self.service_ref(n)).collect(),
+                PropertyKind::Before(l) => {
+                    info.before = l.iter().filter_map(|n| self.service_ref(n)).collect();
+                }
+                PropertyKind::After(l) => {
+                    info.after = l.iter().filter_map(|n| self.service_ref(n)).collect();
+                }
                 PropertyKind::Throws(l) => reports.extend(self.throws(l, scope)),
                 PropertyKind::Local(ty, decls) => {
                     let base = self.types.ty(ty, scope);
                     for d in decls {
                         let ty = self.types.array(base.clone(), d, scope);
-                        self.locals.entry(id).or_default().insert(d.name.name.clone(), None);
+                        self.locals
+                            .entry(id)
+                            .or_default()
+                            .insert(d.name.name.clone(), None);
                         info.locals.push(Field {
                             name: d.name.name.clone(),
                             ty,
@@ -532,7 +624,10 @@ impl<'a> Ctx<'a> {
             self.control_codel(id, "codel", f);
         }
         if s.kind == ast::ServiceKind::Activity {
-            let names_task = s.properties.iter().any(|p| matches!(p.kind, PropertyKind::Task(_)));
+            let names_task = s
+                .properties
+                .iter()
+                .any(|p| matches!(p.kind, PropertyKind::Task(_)));
             if self.c.services[id].thread.is_none() && !fsm.is_empty() && !names_task {
                 self.diags.push(Diagnostic::new(
                     Code::MissingThread,
@@ -543,7 +638,8 @@ impl<'a> Ctx<'a> {
             }
             self.state_codels(id, &fsm);
             let thread = self.c.services[id].thread.map(|r| r.id);
-            self.machines.push((s.name.name.clone(), s.name.span, fsm, thread));
+            self.machines
+                .push((s.name.name.clone(), s.name.span, fsm, thread));
         } else if !fsm.is_empty() {
             self.diags.push(diagnostics::misplaced_property(
                 fsm[0].span,
@@ -558,7 +654,12 @@ impl<'a> Ctx<'a> {
         match self.c.service_named(&n.name) {
             Some(id) => Some(Ref { id, span: n.span }),
             None => {
-                let names: Vec<String> = self.c.services.values().map(|s| s.name.name.clone()).collect();
+                let names: Vec<String> = self
+                    .c
+                    .services
+                    .values()
+                    .map(|s| s.name.name.clone())
+                    .collect();
                 let hint = closest_hint(&n.name, names.iter());
                 self.diags.push(diagnostics::unknown(
                     Code::UnknownService,
@@ -574,7 +675,9 @@ impl<'a> Ctx<'a> {
 
     fn parameters(&mut self, s: &ast::Service, id: ServiceId, scope: &[String]) {
         for p in &s.params {
-            let Some(name) = p.name().cloned() else { continue };
+            let Some(name) = p.name().cloned() else {
+                continue;
+            };
             let (ty, data) = match (&p.ty, &p.path) {
                 (Some(ty), _) => {
                     let base = self.types.ty(ty, scope);
@@ -625,375 +728,6 @@ impl<'a> Ctx<'a> {
             }
         }
     }
-
-    fn whole_ids(&mut self, span: Span, name: &str) -> Option<DataPath> {
-        let ids = self.ids?;
-        Some(DataPath {
-            root: DataRoot::Structure(ids),
-            steps: Vec::new(),
-            ty: self.c.structures[ids].ty.clone(),
-            text: name.to_owned(),
-            span,
-        })
-    }
-
-    /// Resolves an ids member path, diagnosing unknown members.
-    fn ids_path(&mut self, path: &ast::MemberPath) -> Option<DataPath> {
-        let ids = self.ids;
-        let root_ty = ids.map(|i| self.c.structures[i].ty.clone());
-        let (Some(ids), Some(root_ty)) = (ids, root_ty) else {
-            self.diags.push(diagnostics::unknown(
-                Code::UnknownData,
-                "ids member",
-                &path.root.name,
-                path.root.span,
-                None,
-            ));
-            return None;
-        };
-        let mut steps = vec![Step::Field(path.root.name.clone())];
-        let mut names = vec![&path.root];
-        for s in &path.steps {
-            match s {
-                PathStep::Field(f) => {
-                    steps.push(Step::Field(f.name.clone()));
-                    names.push(f);
-                }
-                PathStep::Index(e) => {
-                    let i = self.types.positive(e, &self.scope.clone()).unwrap_or(0);
-                    steps.push(Step::Index(i));
-                }
-            }
-        }
-        let mut ty = root_ty;
-        let mut named = names.iter();
-        for step in &steps {
-            ty = match step {
-                Step::Field(f) => {
-                    let fields = self.types.defs.fields(&ty).map(<[Field]>::to_vec);
-                    let span = named.next().map_or(path.span, |n| n.span);
-                    match fields.as_ref().and_then(|fs| fs.iter().find(|x| &x.name == f)) {
-                        Some(field) => field.ty.clone(),
-                        None => {
-                            let cands: Vec<String> = fields
-                                .unwrap_or_default()
-                                .into_iter()
-                                .map(|x| x.name)
-                                .collect();
-                            let hint = closest_hint(f, cands.iter());
-                            self.diags.push(diagnostics::unknown(
-                                Code::UnknownData,
-                                "ids member",
-                                f,
-                                span,
-                                hint.as_deref(),
-                            ));
-                            return None;
-                        }
-                    }
-                }
-                Step::Index(_) => match self.types.defs.resolve(&ty) {
-                    Ty::Array { elem, .. } | Ty::Sequence { elem, .. } => (**elem).clone(),
-                    _ => Ty::Error,
-                },
-            };
-        }
-        Some(DataPath {
-            root: DataRoot::Structure(ids),
-            steps: steps.into_iter().skip(1).collect(),
-            ty,
-            text: path_text(path),
-            span: path.span,
-        })
-    }
-
-    /// Lowers one codel's parameters and yields (GenoM3 facts only).
-    pub(crate) fn fsm_codel(&mut self, c: &ast::Codel, service: Option<ServiceId>, _scope: &[String]) -> FsmCodel {
-        let params = c
-            .params
-            .iter()
-            .map(|p| self.codel_param(p, service))
-            .collect();
-        let named = |i: &ast::Ident| Named {
-            name: i.name.clone(),
-            span: i.span,
-        };
-        FsmCodel {
-            states: c.states.iter().map(|e| named(&e.name)).collect(),
-            function: named(&c.function),
-            yields: c
-                .yields
-                .iter()
-                .map(|e| Yield {
-                    state: named(&e.name),
-                    pause: e.pause,
-                })
-                .collect(),
-            is_async: c.is_async,
-            params,
-            wcet: None,
-            span: c.span,
-        }
-    }
-
-    fn codel_param(&mut self, p: &ast::CodelParam, service: Option<ServiceId>) -> MParam {
-        let dir = match p.dir {
-            Dir::In => "in",
-            Dir::Out => "out",
-            Dir::InOut => "inout",
-        };
-        let path = p.path.as_ref().map_or_else(String::new, path_text);
-        let name = p
-            .rename
-            .as_ref()
-            .map(|r| r.name.clone())
-            .or_else(|| p.path.as_ref().map(|x| x.last().name.clone()))
-            .unwrap_or_default();
-        let root = p.path.as_ref().map(|x| x.root.name.clone());
-        let is_local = |ctx: &Self| {
-            service
-                .zip(root.as_ref())
-                .is_some_and(|(s, r)| ctx.locals.get(&s).is_some_and(|t| t.contains_key(r)))
-        };
-        let is_port = |ctx: &Self| root.as_ref().is_some_and(|r| ctx.g.ports.iter().any(|q| &q.name.name == r));
-        let is_remote = |ctx: &Self| root.as_ref().is_some_and(|r| ctx.g.remotes.iter().any(|q| &q.name.name == r));
-        let is_ids = |ctx: &Self| {
-            let Some(ids) = ctx.ids else { return false };
-            match &root {
-                None => true,
-                Some(r) => ctx
-                    .types
-                    .defs
-                    .fields(&ctx.c.structures[ids].ty)
-                    .is_some_and(|fs| fs.iter().any(|f| &f.name == r)),
-            }
-        };
-        let source = match p.src {
-            Some(Source::Ids) => Some(ParamSource::Ids),
-            Some(Source::Local) => Some(ParamSource::Local),
-            Some(Source::Port) => Some(ParamSource::Port),
-            Some(Source::Remote) => Some(ParamSource::Remote),
-            None if root.is_none() => Some(ParamSource::Ids),
-            None if is_local(self) => Some(ParamSource::Local),
-            None if is_ids(self) => Some(ParamSource::Ids),
-            None if is_port(self) => Some(ParamSource::Port),
-            None if is_remote(self) => Some(ParamSource::Remote),
-            None => None,
-        };
-        let ok = match source {
-            Some(ParamSource::Ids) => match &p.path {
-                Some(path) => self.ids_path(path).is_some(),
-                None => self.ids.is_some(),
-            },
-            Some(ParamSource::Local) => is_local(self),
-            Some(ParamSource::Port) => is_port(self),
-            Some(ParamSource::Remote) => is_remote(self),
-            None => false,
-        };
-        if !ok && source != Some(ParamSource::Ids) {
-            let what = match source {
-                Some(ParamSource::Local) => "parameter or local",
-                Some(ParamSource::Port) => "port",
-                Some(ParamSource::Remote) => "remote",
-                _ => "codel parameter source",
-            };
-            let mut cands: Vec<String> = self.g.ports.iter().map(|q| q.name.name.clone()).collect();
-            cands.extend(self.g.remotes.iter().map(|q| q.name.name.clone()));
-            if let Some(t) = service.and_then(|s| self.locals.get(&s)) {
-                cands.extend(t.keys().cloned());
-            }
-            if let Some(fs) = self.ids.and_then(|i| self.types.defs.fields(&self.c.structures[i].ty)) {
-                cands.extend(fs.iter().map(|f| f.name.clone()));
-            }
-            let r = root.clone().unwrap_or_default();
-            let hint = closest_hint(&r, cands.iter());
-            let span = p.path.as_ref().map_or(p.span, |x| x.root.span);
-            self.diags
-                .push(diagnostics::unknown(Code::UnknownData, what, &r, span, hint.as_deref()));
-        }
-        MParam {
-            source: source.unwrap_or(ParamSource::Ids),
-            dir: dir.to_owned(),
-            path,
-            name,
-            span: p.span,
-        }
-    }
-
-    /// The model argument of a resolved parameter.
-    fn arg(&self, p: &MParam, service: ServiceId) -> Arg {
-        let root = p.path.split(['.', '[']).next().unwrap_or_default();
-        let data = match p.source {
-            ParamSource::Ids => self.ids.map(|ids| DataPath {
-                root: DataRoot::Structure(ids),
-                steps: if root.is_empty() {
-                    Vec::new()
-                } else {
-                    vec![Step::Field(root.to_owned())]
-                },
-                ty: Ty::Error,
-                text: if p.path.is_empty() { "ids".to_owned() } else { p.path.clone() },
-                span: p.span,
-            }),
-            ParamSource::Port => self.g.ports.iter().find(|q| q.name.name == root).and_then(|q| {
-                q.structure.map(|s| DataPath {
-                    root: DataRoot::Structure(s),
-                    steps: Vec::new(),
-                    ty: q.ty.clone(),
-                    text: p.path.clone(),
-                    span: p.span,
-                })
-            }),
-            ParamSource::Local => self
-                .locals
-                .get(&service)
-                .and_then(|t| t.get(root))
-                .copied()
-                .flatten()
-                .map(|(output, index)| DataPath {
-                    root: DataRoot::Param {
-                        service,
-                        output,
-                        index,
-                    },
-                    steps: Vec::new(),
-                    ty: Ty::Error,
-                    text: p.path.clone(),
-                    span: p.span,
-                }),
-            ParamSource::Remote => None,
-        };
-        Arg {
-            is_const: p.dir == "in",
-            data,
-            span: p.span,
-        }
-    }
-
-    fn call(&self, f: &FsmCodel, service: ServiceId) -> Call {
-        Call {
-            function: f.function.clone(),
-            args: f.params.iter().map(|p| self.arg(p, service)).collect(),
-            span: f.span,
-        }
-    }
-
-    fn control_codel(&mut self, id: ServiceId, name: &str, f: FsmCodel) {
-        let codel = self.c.codels.push(Codel {
-            service: id,
-            kind: CodelKind::Control,
-            name: Named {
-                name: name.to_owned(),
-                span: f.function.span,
-            },
-            call: Some(self.call(&f, id)),
-            update: Vec::new(),
-            on_inter: None,
-            wcet: None,
-            next: Vec::new(),
-            next_span: None,
-        });
-        let svc = &mut self.c.services[id];
-        svc.codels.push(codel);
-        svc.control.get_or_insert(codel);
-        self.g.codels.push(CodelInfo { codel, fsm: f });
-    }
-
-    /// One model codel per state of an activity's FSM codels.
-    fn state_codels(&mut self, id: ServiceId, fsm: &[FsmCodel]) {
-        let mut by_state: BTreeMap<String, CodelId> = BTreeMap::new();
-        for f in fsm {
-            for state in &f.states {
-                let kind = match state.name.as_str() {
-                    "start" => CodelKind::Start,
-                    "stop" => CodelKind::Inter,
-                    _ => CodelKind::Exec,
-                };
-                let codel = self.c.codels.push(Codel {
-                    service: id,
-                    kind,
-                    name: state.clone(),
-                    call: Some(self.call(f, id)),
-                    update: Vec::new(),
-                    on_inter: None,
-                    wcet: None,
-                    next: Vec::new(),
-                    next_span: f.yields.first().map(|y| y.state.span),
-                });
-                by_state.entry(state.name.clone()).or_insert(codel);
-                self.c.services[id].codels.push(codel);
-                self.g.codels.push(CodelInfo {
-                    codel,
-                    fsm: f.clone(),
-                });
-                let svc = &mut self.c.services[id];
-                if kind == CodelKind::Start {
-                    svc.start.get_or_insert(codel);
-                }
-            }
-        }
-        let stop = by_state.get("stop").copied();
-        let codels = self.c.services[id].codels.clone();
-        for codel in codels {
-            let Some(info) = self.g.codels.iter().find(|i| i.codel == codel) else { continue };
-            let next: Vec<Next> = info
-                .fsm
-                .yields
-                .iter()
-                .filter_map(|y| {
-                    let outcome = if y.state.name == "ether" {
-                        Outcome::End
-                    } else {
-                        Outcome::Codel(*by_state.get(&y.state.name)?)
-                    };
-                    Some(Next {
-                        outcome,
-                        span: y.state.span,
-                    })
-                })
-                .collect();
-            let c = &mut self.c.codels[codel];
-            c.next = next;
-            if c.kind != CodelKind::Inter && c.kind != CodelKind::Control {
-                c.on_inter = stop.map(|s| Ref { id: s, span: c.name.span });
-            }
-        }
-        // Port parameters are imports and exports of the service.
-        let mut imports = BTreeSet::new();
-        let mut exports = BTreeSet::new();
-        for f in fsm {
-            for p in f.params.iter().filter(|p| p.source == ParamSource::Port) {
-                let root = p.path.split(['.', '[']).next().unwrap_or_default();
-                if let Some(port) = self.g.ports.iter().find(|q| q.name.name == root) {
-                    if let Some(s) = port.structure {
-                        if port.is_out { exports.insert(s) } else { imports.insert(s) };
-                    }
-                }
-            }
-        }
-        let svc = &mut self.c.services[id];
-        svc.imports = imports.into_iter().map(|id| Ref { id, span: Span::default() }).collect();
-        svc.exports = exports.into_iter().map(|id| Ref { id, span: Span::default() }).collect();
-    }
-
-    fn task_codels(&mut self, t: &ast::Task, scope: &[String]) {
-        let Some(tid) = self.c.thread_named(&t.name.name) else { return };
-        let codels: Vec<FsmCodel> = t
-            .properties
-            .iter()
-            .filter_map(|p| match &p.kind {
-                PropertyKind::Codel(c) => Some(c),
-                _ => None,
-            })
-            .map(|c| self.fsm_codel(c, None, scope))
-            .collect();
-        if let Some(task) = self.g.tasks.iter_mut().find(|x| x.thread == tid) {
-            task.codels.clone_from(&codels);
-        }
-        if !codels.is_empty() {
-            self.machines.push((t.name.name.clone(), t.name.span, codels, Some(tid)));
-        }
-    }
 }
 
 fn empty_service(s: &ast::Service) -> Service {
@@ -1031,24 +765,6 @@ fn append_doc(doc: &mut Option<String>, line: &str) {
         }
         None => *doc = Some(line.to_owned()),
     }
-}
-
-/// `a.b[2]` as written.
-fn path_text(p: &ast::MemberPath) -> String {
-    let mut s = p.root.name.clone();
-    for step in &p.steps {
-        match step {
-            PathStep::Field(f) => {
-                s.push('.');
-                s.push_str(&f.name);
-            }
-            PathStep::Index(e) => match &e.kind {
-                ast::ExprKind::Int(i) => s.push_str(&format!("[{i}]")),
-                _ => s.push_str("[...]"),
-            },
-        }
-    }
-    s
 }
 
 /// The keyword of a property.

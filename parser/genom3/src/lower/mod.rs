@@ -7,6 +7,7 @@
 //! (`checks.rs`).
 
 mod checks;
+mod codels;
 mod component;
 mod types;
 
@@ -84,9 +85,9 @@ pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
         interfaces
             .values()
             .find(|i| {
-                ast.statements
-                    .iter()
-                    .any(|(f, s)| *f != builtin && matches!(s, Statement::Component(c) if std::ptr::eq(c, **i)))
+                ast.statements.iter().any(|(f, s)| {
+                    *f != builtin && matches!(s, Statement::Component(c) if std::ptr::eq(c, **i))
+                })
             })
             .copied()
     });

@@ -75,7 +75,8 @@ impl Types {
                 let value = match self.eval(value, scope) {
                     Ok(v) => Some(v),
                     Err(why) => {
-                        self.diagnostics.push(diagnostics::bad_constant(value.span, &why));
+                        self.diagnostics
+                            .push(diagnostics::bad_constant(value.span, &why));
                         None
                     }
                 };
@@ -105,14 +106,21 @@ impl Types {
                     let fields = self.fields(members, scope);
                     let qualified = qualify(scope, &name.name);
                     // An exception is also a type (a struct of its members).
-                    self.define(scope, &name.name, name.span, TypeKind::Struct(fields.clone()));
-                    self.exceptions.entry(qualified.clone()).or_insert(Exception {
-                        name: Named {
-                            name: qualified,
-                            span: name.span,
-                        },
-                        fields,
-                    });
+                    self.define(
+                        scope,
+                        &name.name,
+                        name.span,
+                        TypeKind::Struct(fields.clone()),
+                    );
+                    self.exceptions
+                        .entry(qualified.clone())
+                        .or_insert(Exception {
+                            name: Named {
+                                name: qualified,
+                                span: name.span,
+                            },
+                            fields,
+                        });
                 }
             }
             IdlDef::Type(spec) => {
@@ -185,12 +193,15 @@ impl Types {
         match self.eval(e, scope) {
             Ok(Value::Int(v)) if v >= 0 => u64::try_from(v).ok(),
             Ok(_) => {
-                self.diagnostics
-                    .push(diagnostics::bad_constant(e.span, "expected a non-negative integer"));
+                self.diagnostics.push(diagnostics::bad_constant(
+                    e.span,
+                    "expected a non-negative integer",
+                ));
                 None
             }
             Err(why) => {
-                self.diagnostics.push(diagnostics::bad_constant(e.span, &why));
+                self.diagnostics
+                    .push(diagnostics::bad_constant(e.span, &why));
                 None
             }
         }
