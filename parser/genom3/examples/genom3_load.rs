@@ -37,6 +37,12 @@ fn main() {
                 render_diagnostic(&out.sources, d, HumanOptions::default())
             );
         }
+        let errors = out
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == genom_model::Severity::Error)
+            .count();
+        println!("RESULT {} errors={errors}", f.display());
         match &out.component {
             Some(c) => {
                 let g = c.genom3.as_deref();

@@ -234,3 +234,14 @@ pub(crate) fn off_clock(what: &str, task: &str, span: Span, clock: Span) -> Diag
     )
     .with_label(clock, "clock-rate set here")
 }
+
+/// A scalar default for a struct or array parameter.
+pub(crate) fn scalar_for_compound(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::TypeMismatch,
+        format!("parameter `{name}` is a struct or array: a scalar cannot initialize it"),
+        span,
+        "a scalar value",
+    )
+    .with_help("use a braced initializer such as `{ .x = 1 }` or `{ 1, 2 }`")
+}

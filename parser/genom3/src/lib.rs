@@ -146,7 +146,7 @@ pub fn load_with(
     }
     Genom3Return {
         sources: loaded.sources,
-        is_interface_only: !lowered.has_component && !empty,
+        is_interface_only: !lowered.has_component && !empty && !has_errors(&diagnostics),
         component: lowered.component,
         diagnostics,
         pragmas: loaded.pragmas,

@@ -696,14 +696,28 @@ impl<'a> Ctx<'a> {
                     None => (Ty::Error, None),
                 },
             };
-            let default = p
-                .init
-                .as_ref()
-                .and_then(|i| i.value.as_ref())
-                .and_then(|v| match v {
-                    ast::InitValue::Expr(e) => self.types.eval(e, scope).ok(),
-                    _ => None,
-                });
+            let value = p.init.as_ref().and_then(|i| i.value.as_ref());
+            if let Some(ast::InitValue::Expr(e)) = value {
+                let compound = match genom_model::component::types::TypeTable::resolve(
+                    &self.types.defs,
+                    &ty,
+                ) {
+                    Ty::Named { id } => matches!(
+                        self.types.defs.get(*id).map(|d| &d.kind),
+                        Some(TypeKind::Struct(_))
+                    ),
+                    Ty::Array { .. } => true,
+                    _ => false,
+                };
+                if compound {
+                    self.diags
+                        .push(diagnostics::scalar_for_compound(&name.name, e.span));
+                }
+            }
+            let default = value.and_then(|v| match v {
+                ast::InitValue::Expr(e) => self.types.eval(e, scope).ok(),
+                _ => None,
+            });
             let param = Param {
                 name: Named {
                     name: name.name.clone(),
