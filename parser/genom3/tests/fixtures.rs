@@ -127,6 +127,17 @@ fn demo_lowers_into_the_model() {
     // `uses` flips port directions: motor's `in command` is our output.
     let command = g.ports.iter().find(|p| p.name.name == "command").unwrap();
     assert!(command.is_out);
+    // An output port a codel writes is published after it (`update`).
+    let track = c.service_named("track").unwrap();
+    let track_start = c.services[track].start.unwrap();
+    let published: Vec<&str> = c.codels[track_start]
+        .update
+        .iter()
+        .map(|d| d.text.as_str())
+        .collect();
+    assert_eq!(published, ["position"]);
+    assert!(c.codels[c.services[mv].start.unwrap()].update.is_empty());
+    assert_eq!(c.services[track].exports.len(), 1);
     // ids blocks merge into one structure.
     let ids: Vec<_> = c.structures.values().filter(|s| s.name == "ids").collect();
     assert_eq!(ids.len(), 1);

@@ -299,6 +299,21 @@ impl Ctx<'_> {
         }
     }
 
+    /// The output ports a codel writes (GenoM3 publishes them after the
+    /// codel runs): the model's `update`.
+    fn published(&self, call: &Call) -> Vec<DataPath> {
+        call.args
+            .iter()
+            .filter(|a| !a.is_const)
+            .filter_map(|a| a.data.clone())
+            .filter(|d| {
+                d.structure().is_some_and(|s| {
+                    self.c.structures[s].kind == genom_model::kinds::DataKind::Export
+                })
+            })
+            .collect()
+    }
+
     fn call(&self, f: &FsmCodel, service: ServiceId) -> Call {
         Call {
             function: f.function.clone(),
@@ -308,6 +323,8 @@ impl Ctx<'_> {
     }
 
     pub(super) fn control_codel(&mut self, id: ServiceId, name: &str, f: FsmCodel) {
+        let call = self.call(&f, id);
+        let update = self.published(&call);
         let codel = self.c.codels.push(Codel {
             service: id,
             kind: CodelKind::Control,
@@ -315,8 +332,8 @@ impl Ctx<'_> {
                 name: name.to_owned(),
                 span: f.function.span,
             },
-            call: Some(self.call(&f, id)),
-            update: Vec::new(),
+            call: Some(call),
+            update,
             on_inter: None,
             wcet: None,
             next: Vec::new(),
@@ -338,12 +355,14 @@ impl Ctx<'_> {
                     "stop" => CodelKind::Inter,
                     _ => CodelKind::Exec,
                 };
+                let call = self.call(f, id);
+                let update = self.published(&call);
                 let codel = self.c.codels.push(Codel {
                     service: id,
                     kind,
                     name: state.clone(),
-                    call: Some(self.call(f, id)),
-                    update: Vec::new(),
+                    call: Some(call),
+                    update,
                     on_inter: None,
                     wcet: None,
                     next: Vec::new(),
