@@ -161,6 +161,8 @@ codes! {
     StopNoEther = "stop-no-ether", Error, "a GenoM3 `codel<stop>` from which no path of yields reaches `ether`";
     /// A GenoM3 `async` codel sharing data with a codel of another task.
     AsyncSharedData = "async-shared-data", Error, "a GenoM3 `async` codel uses ids data that a codel of another task also uses";
+    /// A GenoM3 codel parameter that could be several things.
+    MissingSource = "missing-source", Error, "a GenoM3 codel parameter name that matches several sources (ids, local, port, remote) and has no qualifier";
     /// A GenoM3 `provides`/`uses` naming no interface.
     UnknownInterface = "unknown-interface", Error, "a GenoM3 `provides` or `uses` names no known interface";
     /// A malformed or unresolved line of a WCET side file.

@@ -296,6 +296,37 @@ pub enum PropertyKind {
     Throws(Vec<Ident>),
 }
 
+impl PropertyKind {
+    /// The keyword that introduces the property.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            PropertyKind::Doc(_) => "doc",
+            PropertyKind::Version(_) => "version",
+            PropertyKind::Lang(_) => "lang",
+            PropertyKind::Email(_) => "email",
+            PropertyKind::Require(_) => "require",
+            PropertyKind::CodelsRequire(_) => "codels-require",
+            PropertyKind::ClockRate(..) => "clock-rate",
+            PropertyKind::Provides(_) => "provides",
+            PropertyKind::Uses(_) => "uses",
+            PropertyKind::Extends(_) => "extends",
+            PropertyKind::Period(..) => "period",
+            PropertyKind::Delay(..) => "delay",
+            PropertyKind::Priority(_) => "priority",
+            PropertyKind::SchedulingRealTime => "scheduling",
+            PropertyKind::Stack(..) => "stack",
+            PropertyKind::Task(_) => "task",
+            PropertyKind::Interrupts(_) => "interrupts",
+            PropertyKind::Before(_) => "before",
+            PropertyKind::After(_) => "after",
+            PropertyKind::Validate(_) => "validate",
+            PropertyKind::Local(..) => "local",
+            PropertyKind::Codel(_) => "codel",
+            PropertyKind::Throws(_) => "throws",
+        }
+    }
+}
+
 /// A codel: `[async] codel<s> f(params) yield e;`, `codel f(params);` or
 /// `validate f(params);`.
 #[derive(Debug, Clone)]

@@ -245,3 +245,14 @@ pub(crate) fn scalar_for_compound(name: &str, span: Span) -> Diagnostic {
     )
     .with_help("use a braced initializer such as `{ .x = 1 }` or `{ 1, 2 }`")
 }
+
+/// An unqualified codel parameter that names several things.
+pub(crate) fn missing_source(name: &str, span: Span, matches: &[&str]) -> Diagnostic {
+    Diagnostic::new(
+        Code::MissingSource,
+        format!("codel parameter `{name}` needs a source qualifier"),
+        span,
+        format!("`{name}` is {}", matches.join(" and ")),
+    )
+    .with_help("write `ids`, `local`, `port` or `remote` before the direction")
+}

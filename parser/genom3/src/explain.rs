@@ -15,6 +15,7 @@ pub fn explanation(code: Code) -> Option<&'static str> {
         Code::StopNoEther => STOP_NO_ETHER,
         Code::AsyncSharedData => ASYNC_SHARED_DATA,
         Code::UnknownInterface => UNKNOWN_INTERFACE,
+        Code::MissingSource => MISSING_SOURCE,
         Code::BadWcet => BAD_WCET,
         _ => return None,
     })
@@ -99,6 +100,21 @@ component c { provides or_pose_estimator; };
 ```
 ";
 
+const MISSING_SOURCE: &str = "\
+A codel parameter without a source (`ids`, `local`, `port` or `remote`)
+is looked up among the service's parameters and locals, the ids members,
+the ports and the remotes. When the name is found in more than one of
+them, GenoM3 refuses to guess: write the source.
+
+```
+ids { double x; };
+activity a(in double x) {
+  codel<start> f(in x) yield ether;         // error: parameter or ids member?
+  codel<start> f(local in x) yield ether;   // the service parameter
+};
+```
+";
+
 const BAD_WCET: &str = "\
 A WCET side file gives the worst-case execution time of GenoM3 codels, one
 per line: `OWNER.STATE DURATION`. OWNER is a service (STATE one of its
@@ -129,6 +145,7 @@ mod tests {
             Code::StopNoEther,
             Code::AsyncSharedData,
             Code::UnknownInterface,
+            Code::MissingSource,
             Code::BadWcet,
         ] {
             assert!(

@@ -192,6 +192,25 @@ impl Ctx<'_> {
             None if is_remote(self) => Some(ParamSource::Remote),
             None => None,
         };
+        if p.src.is_none() && root.is_some() {
+            let matches: Vec<&str> = [
+                (is_local(self), "a service parameter or local"),
+                (is_ids(self), "an ids member"),
+                (is_port(self), "a port"),
+                (is_remote(self), "a remote"),
+            ]
+            .into_iter()
+            .filter_map(|(hit, what)| hit.then_some(what))
+            .collect();
+            if matches.len() > 1 {
+                let span = p.path.as_ref().map_or(p.span, |x| x.root.span);
+                self.diags.push(diagnostics::missing_source(
+                    root.as_deref().unwrap_or_default(),
+                    span,
+                    &matches,
+                ));
+            }
+        }
         let ok = match source {
             Some(ParamSource::Ids) => match &p.path {
                 Some(path) => self.ids_path(path).is_some(),

@@ -381,7 +381,7 @@ impl<'a> Ctx<'a> {
     }
 
     fn misplaced(&mut self, span: Span, kind: &PropertyKind, owner: &str) {
-        let word = property_word(kind);
+        let word = kind.keyword();
         self.diags
             .push(diagnostics::misplaced_property(span, word, owner));
     }
@@ -778,34 +778,5 @@ fn append_doc(doc: &mut Option<String>, line: &str) {
             d.push_str(line);
         }
         None => *doc = Some(line.to_owned()),
-    }
-}
-
-/// The keyword of a property.
-fn property_word(kind: &PropertyKind) -> &'static str {
-    match kind {
-        PropertyKind::Doc(_) => "doc",
-        PropertyKind::Version(_) => "version",
-        PropertyKind::Lang(_) => "lang",
-        PropertyKind::Email(_) => "email",
-        PropertyKind::Require(_) => "require",
-        PropertyKind::CodelsRequire(_) => "codels-require",
-        PropertyKind::ClockRate(..) => "clock-rate",
-        PropertyKind::Provides(_) => "provides",
-        PropertyKind::Uses(_) => "uses",
-        PropertyKind::Extends(_) => "extends",
-        PropertyKind::Period(..) => "period",
-        PropertyKind::Delay(..) => "delay",
-        PropertyKind::Priority(_) => "priority",
-        PropertyKind::SchedulingRealTime => "scheduling",
-        PropertyKind::Stack(..) => "stack",
-        PropertyKind::Task(_) => "task",
-        PropertyKind::Interrupts(_) => "interrupts",
-        PropertyKind::Before(_) => "before",
-        PropertyKind::After(_) => "after",
-        PropertyKind::Validate(_) => "validate",
-        PropertyKind::Local(..) => "local",
-        PropertyKind::Codel(_) => "codel",
-        PropertyKind::Throws(_) => "throws",
     }
 }
