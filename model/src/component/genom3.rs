@@ -10,8 +10,8 @@
 //! their task, one [`super::Codel`] per FSM state (`start` is the start
 //! codel, `stop` the inter codel every other codel is interrupted to, the
 //! rest exec codels, `ether` is `end`); functions and attributes are
-//! control-only services (`validate` and the function's `codel` are control
-//! codels named `validate` and `codel`); `ids` is one IDS structure named
+//! control-only services (`validate` and the function's codels are control
+//! codels named `validate`, `codel`, `codel2`...); `ids` is one IDS structure named
 //! `ids`; an `out` port is an export structure, an `in` port an import
 //! structure, both in block `port`; `throws` are the service's reports.
 

@@ -115,11 +115,24 @@ impl Ctx<'_> {
         service: Option<ServiceId>,
         _scope: &[String],
     ) -> FsmCodel {
-        let params = c
+        let params: Vec<MParam> = c
             .params
             .iter()
             .map(|p| self.codel_param(p, service))
             .collect();
+        for (i, p) in params.iter().enumerate() {
+            if let Some(first) = params[..i]
+                .iter()
+                .find(|q| q.name == p.name && !p.name.is_empty())
+            {
+                self.diags.push(diagnostics::duplicate(
+                    "codel parameter",
+                    &p.name,
+                    p.span,
+                    first.span,
+                ));
+            }
+        }
         let named = |i: &ast::Ident| Named {
             name: i.name.clone(),
             span: i.span,
@@ -315,6 +328,74 @@ impl Ctx<'_> {
             is_const: p.dir == "in",
             data,
             span: p.span,
+        }
+    }
+
+    /// Checks an initializer against its type: a scalar cannot initialize
+    /// a struct or array, and designated members must exist.
+    pub(super) fn check_init(&mut self, param: &str, v: &ast::InitValue, ty: &Ty) {
+        let resolved = self.types.defs.resolve(ty).clone();
+        let fields: Option<Vec<Field>> = self.types.defs.fields(&resolved).map(<[Field]>::to_vec);
+        let elem = match &resolved {
+            Ty::Array { elem, .. } | Ty::Sequence { elem, .. } => Some((**elem).clone()),
+            _ => None,
+        };
+        match v {
+            ast::InitValue::Expr(e) => {
+                if fields.is_some() || matches!(resolved, Ty::Array { .. }) {
+                    self.diags
+                        .push(diagnostics::scalar_for_compound(param, e.span));
+                }
+            }
+            ast::InitValue::List(items) => {
+                for (i, item) in items.iter().enumerate() {
+                    let Some(value) = &item.value else { continue };
+                    let positional = match value {
+                        ast::InitValue::Field(..) | ast::InitValue::Index(..) => None,
+                        _ => fields
+                            .as_ref()
+                            .and_then(|f| f.get(i).map(|f| f.ty.clone()))
+                            .or_else(|| elem.clone()),
+                    };
+                    match positional {
+                        Some(t) => self.check_init(param, value, &t),
+                        None => self.check_init(param, value, &resolved),
+                    }
+                }
+            }
+            ast::InitValue::Field(f, sub) => match &fields {
+                Some(fs) => match fs.iter().find(|x| x.name == f.name) {
+                    Some(field) => {
+                        if let Some(sub) = sub {
+                            self.check_init(param, sub, &field.ty.clone());
+                        }
+                    }
+                    None => {
+                        let names: Vec<String> = fs.iter().map(|x| x.name.clone()).collect();
+                        let hint = closest_hint(&f.name, names.iter());
+                        self.diags.push(diagnostics::unknown(
+                            Code::UnknownData,
+                            "member",
+                            &f.name,
+                            f.span,
+                            hint.as_deref(),
+                        ));
+                    }
+                },
+                None if resolved != Ty::Error => self.diags.push(diagnostics::unknown(
+                    Code::UnknownData,
+                    "member",
+                    &f.name,
+                    f.span,
+                    None,
+                )),
+                None => {}
+            },
+            ast::InitValue::Index(_, sub) => {
+                if let (Some(sub), Some(elem)) = (sub, elem) {
+                    self.check_init(param, sub, &elem);
+                }
+            }
         }
     }
 

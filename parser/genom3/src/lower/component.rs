@@ -539,7 +539,7 @@ impl<'a> Ctx<'a> {
         let mut reports = self.throws(component_throws, &self.scope.clone());
         let mut fsm: Vec<FsmCodel> = Vec::new();
         let mut validate = None;
-        let mut simple = None;
+        let mut simple = Vec::new();
         for prop in &s.properties {
             match &prop.kind {
                 PropertyKind::Doc(d) => append_doc(&mut self.c.services[id].doc, d),
@@ -608,7 +608,7 @@ impl<'a> Ctx<'a> {
                     }
                 }
                 PropertyKind::Validate(c) => validate = Some(c),
-                PropertyKind::Codel(c) if c.states.is_empty() => simple = Some(c),
+                PropertyKind::Codel(c) if c.states.is_empty() => simple.push(c),
                 PropertyKind::Codel(c) => fsm.push(self.fsm_codel(c, Some(id), scope)),
                 other => self.misplaced(prop.span, other, "a service"),
             }
@@ -619,9 +619,15 @@ impl<'a> Ctx<'a> {
             let f = self.fsm_codel(v, Some(id), scope);
             self.control_codel(id, "validate", f);
         }
-        if let Some(c) = simple {
+        // A function's codels run in sequence: `codel`, `codel2`, ...
+        for (i, c) in simple.into_iter().enumerate() {
             let f = self.fsm_codel(c, Some(id), scope);
-            self.control_codel(id, "codel", f);
+            let name = if i == 0 {
+                "codel".to_owned()
+            } else {
+                format!("codel{}", i + 1)
+            };
+            self.control_codel(id, &name, f);
         }
         if s.kind == ast::ServiceKind::Activity {
             let names_task = s
@@ -697,22 +703,8 @@ impl<'a> Ctx<'a> {
                 },
             };
             let value = p.init.as_ref().and_then(|i| i.value.as_ref());
-            if let Some(ast::InitValue::Expr(e)) = value {
-                let compound = match genom_model::component::types::TypeTable::resolve(
-                    &self.types.defs,
-                    &ty,
-                ) {
-                    Ty::Named { id } => matches!(
-                        self.types.defs.get(*id).map(|d| &d.kind),
-                        Some(TypeKind::Struct(_))
-                    ),
-                    Ty::Array { .. } => true,
-                    _ => false,
-                };
-                if compound {
-                    self.diags
-                        .push(diagnostics::scalar_for_compound(&name.name, e.span));
-                }
+            if let Some(v) = value {
+                self.check_init(&name.name, v, &ty);
             }
             let default = value.and_then(|v| match v {
                 ast::InitValue::Expr(e) => self.types.eval(e, scope).ok(),

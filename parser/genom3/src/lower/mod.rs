@@ -48,7 +48,17 @@ pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
     let mut components: Vec<&ast::Component> = Vec::new();
     let mut interfaces: BTreeMap<String, &ast::Component> = BTreeMap::new();
     let mut has_interface = false;
-    for (file, stmt) in &ast.statements {
+    // The files' own `interface genom` (genom3's genom.gen) replaces the
+    // built-in one.
+    let own_genom = ast.statements.iter().any(|(f, s)| {
+        *f != builtin
+            && matches!(s, Statement::Component(c) if c.is_interface && c.name.name == "genom")
+    });
+    for (file, stmt) in ast
+        .statements
+        .iter()
+        .filter(|(f, _)| !(own_genom && *f == builtin))
+    {
         match stmt {
             Statement::Idl(d) => types.definition(d, &[]),
             Statement::Component(c) => {
