@@ -256,3 +256,19 @@ pub(crate) fn missing_source(name: &str, span: Span, matches: &[&str]) -> Diagno
     )
     .with_help("write `ids`, `local`, `port` or `remote` before the direction")
 }
+
+/// One codel function with two prototypes.
+pub(crate) fn prototype_mismatch(
+    name: &str,
+    here: (Span, usize),
+    first: (Span, usize),
+) -> Diagnostic {
+    Diagnostic::new(
+        Code::PrototypeMismatch,
+        format!("codel `{name}` is used with two different prototypes"),
+        here.0,
+        format!("{} parameter(s) here", here.1),
+    )
+    .with_label(first.0, format!("{} parameter(s) and other directions here", first.1))
+    .with_help("a codel function has one C prototype: give the two uses the same parameters, or rename one")
+}

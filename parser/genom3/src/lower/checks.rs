@@ -26,6 +26,7 @@ pub(crate) fn run(ctx: &mut Ctx<'_>) {
         machine(ctx, what, owner, *span, codels);
     }
     async_sharing(ctx, &machines);
+    prototypes(ctx, &machines);
     ctx.machines = machines;
 }
 
@@ -195,4 +196,34 @@ fn reachable(codels: &[FsmCodel], from: &str) -> BTreeSet<usize> {
         queue.extend(codels[i].yields.iter().filter_map(|y| owner(&y.state.name)));
     }
     seen
+}
+
+/// One codel function used with different prototypes (number of
+/// parameters or directions): genom3's "conflicting types for codel".
+fn prototypes(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Option<ThreadId>)]) {
+    let mut all: Vec<&FsmCodel> = machines.iter().flat_map(|m| m.2.iter()).collect();
+    let controls: Vec<FsmCodel> = ctx.g.codels.iter().map(|i| i.fsm.clone()).collect();
+    all.extend(controls.iter());
+    let mut seen: BTreeMap<&str, &FsmCodel> = BTreeMap::new();
+    let mut found = Vec::new();
+    for c in all {
+        let shape =
+            |c: &FsmCodel| -> Vec<String> { c.params.iter().map(|p| p.dir.clone()).collect() };
+        match seen.get(c.function.name.as_str()) {
+            Some(first)
+                if !std::ptr::eq(*first, c) && shape(first) != shape(c) && first.span != c.span =>
+            {
+                found.push(diagnostics::prototype_mismatch(
+                    &c.function.name,
+                    (c.function.span, c.params.len()),
+                    (first.function.span, first.params.len()),
+                ));
+            }
+            Some(_) => {}
+            None => {
+                seen.insert(c.function.name.as_str(), c);
+            }
+        }
+    }
+    ctx.diags.extend(found);
 }

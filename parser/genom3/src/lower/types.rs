@@ -163,6 +163,15 @@ impl Types {
         for m in members {
             let base = self.ty(&m.ty, scope);
             for d in &m.decls {
+                if let Some(first) = out.iter().find(|f: &&Field| f.name == d.name.name) {
+                    self.diagnostics.push(diagnostics::duplicate(
+                        "member",
+                        &d.name.name,
+                        d.name.span,
+                        first.span,
+                    ));
+                    continue;
+                }
                 out.push(Field {
                     name: d.name.name.clone(),
                     ty: self.array(base.clone(), d, scope),
