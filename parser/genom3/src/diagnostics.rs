@@ -272,3 +272,13 @@ pub(crate) fn prototype_mismatch(
     .with_label(first.0, format!("{} parameter(s) and other directions here", first.1))
     .with_help("a codel function has one C prototype: give the two uses the same parameters, or rename one")
 }
+
+/// A macro that is not expanded.
+pub(crate) fn macro_not_expanded(span: Span, name: &str, why: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::IgnoredDirective,
+        format!("macro `{name}` is not expanded: {why}"),
+        span,
+        "here",
+    )
+}

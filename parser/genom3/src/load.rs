@@ -4,7 +4,7 @@
 //! time, and orders the statements as a C preprocessor would (an included
 //! file's statements at its `#include`).
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use genom_model::{Diagnostic, FileId, SourceMap, Span};
@@ -120,7 +120,7 @@ pub fn load_all(
         stack: Vec::new(),
         files: BTreeMap::new(),
     };
-    let mut defines = BTreeSet::new();
+    let mut defines = preprocess::Macros::new();
     let root = session.out.sources.add(path, text);
     session.stack.push(normalise(path));
     session.file(root, &mut defines);
@@ -140,7 +140,7 @@ pub fn load_all(
 }
 
 impl Session<'_> {
-    fn file(&mut self, id: FileId, defines: &mut BTreeSet<String>) {
+    fn file(&mut self, id: FileId, defines: &mut preprocess::Macros) {
         let Some(file) = self.out.sources.file(id) else {
             return;
         };
@@ -174,7 +174,7 @@ impl Session<'_> {
         &mut self,
         dir: &Path,
         inc: &Include,
-        defines: &mut BTreeSet<String>,
+        defines: &mut preprocess::Macros,
     ) -> Option<FileId> {
         let mut searched = Vec::new();
         let mut found = None;

@@ -4,13 +4,14 @@
 //! reports what the loader must do: includes to follow (in order, with
 //! their offset) and pragmas to record.
 //!
-//! Supported: `#include "…"`/`<…>`, `#define NAME [value]` (names only;
-//! values are not substituted in the text), `#undef`, `#ifdef`, `#ifndef`,
+//! Supported: `#include "…"`/`<…>`, `#define NAME [value]` (object-like
+//! macros are expanded in the code when the value is not longer than the
+//! name, padded with spaces so offsets stay exact), `#undef`, `#ifdef`, `#ifndef`,
 //! `#if [!]defined(X)` / `#if 0|1`, `#elif`, `#else`, `#endif`,
 //! `#pragma require|provides|masquerade`. Other directives (and `#line`
 //! markers) are ignored with an advice.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use genom_model::{Diagnostic, Span};
 
@@ -51,6 +52,18 @@ pub(crate) struct Scanned {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// A `#define`d macro.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Macro {
+    /// Its replacement text (trimmed, may be empty).
+    pub value: String,
+    /// `#define F(x) ...` (never expanded).
+    pub function_like: bool,
+}
+
+/// The macro table, shared across the files of one load.
+pub(crate) type Macros = BTreeMap<String, Macro>;
+
 /// One open conditional: is this branch active, has a branch been taken,
 /// was the enclosing region active.
 struct Cond {
@@ -67,14 +80,15 @@ struct Cond {
 pub(crate) fn scan(
     text: &str,
     base: u32,
-    defines: &mut BTreeSet<String>,
-    on_include: &mut dyn FnMut(&Include, &mut BTreeSet<String>),
+    defines: &mut Macros,
+    on_include: &mut dyn FnMut(&Include, &mut Macros),
 ) -> Scanned {
     let mut out = Scanned::default();
     let mut blanked = String::with_capacity(text.len());
     let mut stack: Vec<Cond> = Vec::new();
     let mut offset = 0usize;
     let mut in_comment = false;
+    let mut warned = BTreeSet::new();
     for line in text.split_inclusive('\n') {
         let start = offset;
         offset += line.len();
@@ -85,10 +99,18 @@ pub(crate) fn scan(
         let active = stack.last().is_none_or(|c| c.active);
         let trimmed = line.trim_start();
         let is_directive = !in_comment && trimmed.starts_with('#');
+        let was_in_comment = in_comment;
         in_comment = update_comment_state(line, in_comment);
         if !is_directive {
             if active {
-                blanked.push_str(line);
+                blanked.push_str(&expand(
+                    line,
+                    was_in_comment,
+                    defines,
+                    span,
+                    &mut warned,
+                    &mut out.diagnostics,
+                ));
             } else {
                 blanked.push_str(&blank(line));
             }
@@ -99,7 +121,7 @@ pub(crate) fn scan(
         let (word, rest) = split_word(&body);
         match word {
             "ifdef" | "ifndef" => {
-                let defined = defines.contains(first_word(rest));
+                let defined = defines.contains_key(first_word(rest));
                 let cond = (word == "ifdef") == defined;
                 stack.push(Cond {
                     active: active && cond,
@@ -135,7 +157,24 @@ pub(crate) fn scan(
             }
             _ if !active => {}
             "define" => {
-                defines.insert(first_word(rest).to_owned());
+                let name = first_word(rest).to_owned();
+                let after = &rest.trim_start()[name.len()..];
+                let function_like = after.starts_with('(');
+                if function_like {
+                    out.diagnostics.push(diagnostics::macro_not_expanded(
+                        span,
+                        &name,
+                        "function-like macros are not expanded",
+                    ));
+                }
+                let value = after.trim().to_owned();
+                defines.insert(
+                    name,
+                    Macro {
+                        value,
+                        function_like,
+                    },
+                );
             }
             "undef" => {
                 defines.remove(first_word(rest));
@@ -178,6 +217,99 @@ pub(crate) fn scan(
             .push(diagnostics::unterminated_conditional(c.span));
     }
     out.text = blanked;
+    out
+}
+
+/// Expands object-like macros in one line of code, keeping every offset:
+/// a macro whose value is not longer than its name is replaced by the
+/// value padded with spaces; a longer one is left alone with an advice
+/// (once per macro and file). Comments and strings are left alone.
+fn expand(
+    line: &str,
+    mut in_comment: bool,
+    defines: &Macros,
+    span: Span,
+    warned: &mut BTreeSet<String>,
+    diags: &mut Vec<Diagnostic>,
+) -> String {
+    if defines.is_empty() {
+        return line.to_owned();
+    }
+    let bytes = line.as_bytes();
+    let mut out = String::with_capacity(line.len());
+    let mut i = 0;
+    let mut in_string = false;
+    while i < bytes.len() {
+        let rest = &line[i..];
+        if in_comment {
+            if rest.starts_with("*/") {
+                in_comment = false;
+                out.push_str("*/");
+                i += 2;
+            } else {
+                let c = rest.chars().next().unwrap_or(' ');
+                out.push(c);
+                i += c.len_utf8();
+            }
+            continue;
+        }
+        if in_string {
+            let c = rest.chars().next().unwrap_or(' ');
+            if c == '\\' {
+                out.push_str(rest.get(..2).unwrap_or(rest));
+                i += rest.get(..2).map_or(rest.len(), str::len);
+                continue;
+            }
+            in_string = c != '"';
+            out.push(c);
+            i += c.len_utf8();
+            continue;
+        }
+        if rest.starts_with("//") {
+            out.push_str(rest);
+            break;
+        }
+        if rest.starts_with("/*") {
+            in_comment = true;
+            out.push_str("/*");
+            i += 2;
+            continue;
+        }
+        let c = rest.chars().next().unwrap_or(' ');
+        if c == '"' {
+            in_string = true;
+            out.push(c);
+            i += 1;
+            continue;
+        }
+        if c.is_ascii_alphabetic() || c == '_' {
+            let len = rest
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(rest.len());
+            let word = &rest[..len];
+            match defines.get(word) {
+                Some(m) if !m.function_like && m.value.len() <= len => {
+                    out.push_str(&m.value);
+                    out.push_str(&" ".repeat(len - m.value.len()));
+                }
+                Some(m) if !m.function_like => {
+                    if warned.insert(word.to_owned()) {
+                        diags.push(diagnostics::macro_not_expanded(
+                            span,
+                            word,
+                            "its value is longer than its name, so expanding it would move positions",
+                        ));
+                    }
+                    out.push_str(word);
+                }
+                _ => out.push_str(word),
+            }
+            i += len;
+            continue;
+        }
+        out.push(c);
+        i += c.len_utf8();
+    }
     out
 }
 
@@ -271,7 +403,7 @@ fn parse_include(rest: &str) -> Option<(String, bool)> {
 
 /// Evaluates the simple `#if` conditions: `defined(X)`, `defined X`,
 /// `!defined(X)`, integers, joined by `&&` / `||` (left to right).
-fn eval_condition(expr: &str, defines: &BTreeSet<String>) -> bool {
+fn eval_condition(expr: &str, defines: &Macros) -> bool {
     let expr = expr.trim();
     if let Some((a, b)) = expr.split_once("||") {
         return eval_condition(a, defines) || eval_condition(b, defines);
@@ -288,12 +420,14 @@ fn eval_condition(expr: &str, defines: &BTreeSet<String>) -> bool {
             .trim_start_matches('(')
             .trim_end_matches(')')
             .trim();
-        return defines.contains(name);
+        return defines.contains_key(name);
     }
     let inner = expr.trim_start_matches('(').trim_end_matches(')').trim();
     match inner.parse::<i64>() {
         Ok(v) => v != 0,
-        Err(_) => defines.contains(inner),
+        Err(_) => defines
+            .get(inner)
+            .is_some_and(|m| m.value.parse::<i64>().is_ok_and(|v| v != 0)),
     }
 }
 
@@ -302,7 +436,7 @@ mod tests {
     use super::*;
 
     fn run(text: &str) -> Scanned {
-        let mut defines = BTreeSet::new();
+        let mut defines = Macros::new();
         scan(text, 0, &mut defines, &mut |_, _| {})
     }
 
@@ -321,7 +455,7 @@ mod tests {
     #[test]
     fn guards_hide_the_second_inclusion() {
         let text = "#ifndef G\n#define G\nx\n#endif\n";
-        let mut defines = BTreeSet::new();
+        let mut defines = Macros::new();
         let first = scan(text, 0, &mut defines, &mut |_, _| {});
         let second = scan(text, 0, &mut defines, &mut |_, _| {});
         assert!(first.text.contains('x'));
@@ -332,6 +466,16 @@ mod tests {
     fn else_elif_and_defined() {
         let s = run("#define A\n#if defined(B)\nb\n#elif defined A\na\n#else\nc\n#endif\n");
         assert!(s.text.contains('a') && !s.text.contains('b') && !s.text.contains('c'));
+    }
+
+    #[test]
+    fn short_object_like_macros_are_expanded_in_place() {
+        let s = run(
+            "#define EMPTY\n#define N 4\n#define LONG_VALUE_X 1234567890123456\nlong EMPTY a[N]; /* N */ \"N\" LONG_VALUE_X\n",
+        );
+        let last = s.text.lines().last().unwrap_or("");
+        assert_eq!(last, "long       a[4]; /* N */ \"N\" LONG_VALUE_X");
+        assert_eq!(s.diagnostics.len(), 1, "{:?}", s.diagnostics);
     }
 
     #[test]
