@@ -69,6 +69,23 @@ pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
                     }
                 }
                 if c.is_interface {
+                    // Types named by an interface's services and ports are
+                    // checked even when no component provides or uses it.
+                    for e in &c.body {
+                        match e {
+                            Export::Service(svc) => {
+                                for p in &svc.params {
+                                    if let Some(t) = &p.ty {
+                                        types.ty(t, &scope);
+                                    }
+                                }
+                            }
+                            Export::Port(port) => {
+                                types.ty(&port.ty, &scope);
+                            }
+                            _ => {}
+                        }
+                    }
                     has_interface |= *file != builtin;
                     interfaces.entry(c.name.name.clone()).or_insert(c);
                 } else {

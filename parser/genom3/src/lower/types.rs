@@ -269,6 +269,12 @@ impl Types {
             }
             TypeSpec::Union(name, switch, cases) => {
                 self.ty(switch, scope);
+                for label in cases.iter().flat_map(|(labels, _)| labels.iter().flatten()) {
+                    if let Err(why) = self.eval(label, scope) {
+                        self.diagnostics
+                            .push(diagnostics::bad_constant(label.span, &why));
+                    }
+                }
                 let mut inner = scope.to_vec();
                 inner.push(name.name.clone());
                 let members: Vec<Member> = cases.iter().map(|(_, m)| m.clone()).collect();
