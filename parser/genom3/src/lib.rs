@@ -8,13 +8,21 @@
 //!   the whole pipeline on the file system (fails only when `path` itself
 //!   cannot be read). [`load_with`] takes a [`Loader`] and the text.
 //! - [`Genom3Options`]: `include_dirs` (the `-I` folders, in order),
-//!   `use_env_include_path` (also search `GENOM_INCLUDE_PATH`), `wcet_file`.
-//! - [`Genom3Return`]: `sources` (one `FileId` per file, the checked file
-//!   first), `component` (`None` for interface-only files or when nothing
-//!   could be lowered), `diagnostics` (sorted), `pragmas`
-//!   (`#pragma require/provides/…`, in order), `is_interface_only` (no
-//!   component, but interfaces or IDL definitions: not an error, as in
-//!   genom3), `ast`.
+//!   `use_env_include_path` (also search `GENOM_INCLUDE_PATH`; on by
+//!   default), `wcet_file`.
+//! - [`Genom3Return`]: `sources` (one `FileId` per file: the checked file
+//!   first, then its includes in load order, then the built-in `genom`
+//!   interface, then the WCET file), `component` (`None` when the files
+//!   define no component), `diagnostics` (sorted, deduplicated), `pragmas`
+//!   (`#pragma require/provides/masquerade`, in order), `is_interface_only`
+//!   (no component but interfaces or IDL definitions, and no syntax error:
+//!   not an error, as in genom3; only a file with nothing at all gets
+//!   `missing-component`), `ast`.
+//! - The lowered component follows the mapping documented in
+//!   `genom_model::component::genom3` (tasks → threads, activities →
+//!   services with one codel per state, functions/attributes → control-only
+//!   services, `ids` → one IDS structure, ports → import/export
+//!   structures); GenoM3-only facts are in `Component::genom3`.
 //! - [`looks_like_genom3`]`(text) -> bool`: dialect detection by syntax.
 //! - [`add_wcet_file`], [`wcet::parse_wcet`], [`wcet::apply_wcets`]: the
 //!   WCET side file (`OWNER.STATE DURATION` lines).
@@ -52,8 +60,9 @@ pub use detect::looks_like_genom3;
 pub use load::{FsLoader, LoadError, Loader, MemoryLoader};
 pub use preprocess::Pragma;
 
-/// Options of a GenoM3 load.
-#[derive(Debug, Clone, Default)]
+/// Options of a GenoM3 load. The default searches no `-I` folder, does
+/// search `GENOM_INCLUDE_PATH`, and reads no WCET file.
+#[derive(Debug, Clone)]
 pub struct Genom3Options {
     /// `-I` folders, searched in order after the including file's folder.
     pub include_dirs: Vec<PathBuf>,
@@ -62,6 +71,16 @@ pub struct Genom3Options {
     pub use_env_include_path: bool,
     /// A WCET side file to apply to the component.
     pub wcet_file: Option<PathBuf>,
+}
+
+impl Default for Genom3Options {
+    fn default() -> Self {
+        Self {
+            include_dirs: Vec::new(),
+            use_env_include_path: true,
+            wcet_file: None,
+        }
+    }
 }
 
 /// What a GenoM3 load produces (`XReturn { value, diagnostics }`).
