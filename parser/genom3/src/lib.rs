@@ -4,7 +4,7 @@
 //!
 //! # API
 //!
-//! - [`load`]`(path, &Genom3Options) -> Result<Genom3Return, LoadError>`:
+//! - [`load()`]`(path, &Genom3Options) -> Result<Genom3Return, LoadError>`:
 //!   the whole pipeline on the file system (fails only when `path` itself
 //!   cannot be read). [`load_with`] takes a [`Loader`] and the text.
 //! - [`Genom3Options`]: `include_dirs` (the `-I` folders, in order),

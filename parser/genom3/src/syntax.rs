@@ -85,6 +85,21 @@ pub(crate) fn error(err: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, us
         ErrorVariant::CustomError { message } => vec![message.clone()],
     };
     let found = found_at(text, pos);
+    if let ErrorVariant::CustomError { message } = &err.variant {
+        let start = base + u32::try_from(pos).unwrap_or(u32::MAX);
+        let span = Span::new(
+            start,
+            start + u32::try_from(token_len(text, pos)).unwrap_or(0),
+        );
+        return (
+            diagnostics::syntax(
+                span,
+                format!("cannot parse: {message} (nesting too deep?)"),
+                "here".to_owned(),
+            ),
+            pos,
+        );
+    }
     let message = match expected.as_slice() {
         [] => format!("unexpected {found}"),
         [one] => format!("expected {one}, found {found}"),
