@@ -23,6 +23,9 @@
 //!   services with one codel per state, functions/attributes → control-only
 //!   services, `ids` → one IDS structure, ports → import/export
 //!   structures); GenoM3-only facts are in `Component::genom3`.
+//! - [`Genom3Return::is_complete`]: false when a file is missing or does not
+//!   parse; resolution diagnostics are then left out (they would only be
+//!   the cascade of the missing names) and the component may be partial.
 //! - [`looks_like_genom3`]`(text) -> bool`: dialect detection by syntax.
 //! - [`add_wcet_file`], [`wcet::parse_wcet`], [`wcet::apply_wcets`]: the
 //!   WCET side file (`OWNER.STATE DURATION` lines).
@@ -54,7 +57,7 @@ pub mod wcet;
 use std::path::{Path, PathBuf};
 
 use genom_model::component::Component;
-use genom_model::{Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
+use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 
 pub use detect::looks_like_genom3;
 pub use load::{FsLoader, LoadError, Loader, MemoryLoader};
@@ -99,6 +102,21 @@ pub struct Genom3Return {
     pub is_interface_only: bool,
     /// The syntax trees.
     pub ast: ast::Ast,
+}
+
+impl Genom3Return {
+    /// True when every file was found and parsed, so that the component is
+    /// whole and its resolution diagnostics were reported. When false, the
+    /// component (if any) is partial and only the load's own diagnostics
+    /// (syntax, includes) are reported.
+    pub fn is_complete(&self) -> bool {
+        !self.diagnostics.iter().any(|d| {
+            matches!(
+                d.code,
+                Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle
+            )
+        })
+    }
 }
 
 /// Loads a GenoM3 file from the file system.
@@ -152,7 +170,17 @@ pub fn load_with(
         FileId(u32::try_from(loaded.sources.files().count().saturating_sub(1)).unwrap_or(0));
     let lowered = lower::lower(&loaded.ast, builtin);
     let mut diagnostics = loaded.diagnostics;
-    diagnostics.extend(lowered.diagnostics);
+    // With a file missing or unparsed, names it would define are unknown:
+    // report only what stops the load, not the cascade.
+    let complete = !diagnostics.iter().any(|d| {
+        matches!(
+            d.code,
+            Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle
+        )
+    });
+    if complete {
+        diagnostics.extend(lowered.diagnostics);
+    }
     add_include_chains(&loaded.sources, &loaded.included_at, &mut diagnostics);
     sort_diagnostics(&mut diagnostics);
     // As genom3 does, a file with interfaces or IDL only is accepted: only a

@@ -36,7 +36,7 @@ fn includes_search_the_including_folder_then_each_dir_in_order() {
 #[test]
 fn a_missing_include_names_the_folders_searched_and_suggests_dash_i() {
     let l = loader(&[]);
-    let main = "#include \"or/pose/p.gen\"\ncomponent m { };\n";
+    let main = "#include \"or/pose/p.gen\"\ncomponent m { ids { or_pose::state s; }; };\n";
     let out = load_with(
         Path::new("src/m.gen"),
         main.to_owned(),
@@ -50,8 +50,11 @@ fn a_missing_include_names_the_folders_searched_and_suggests_dash_i() {
         .unwrap();
     assert_eq!(d.labels[0].message, "searched in: src, inc");
     assert!(d.help.as_deref().unwrap().contains("-I"));
-    // The rest of the file is still read.
+    // The rest of the file is still read, without the cascade of names
+    // the missing file would define.
     assert!(out.component.is_some());
+    assert!(!out.is_complete());
+    assert!(out.diagnostics.iter().all(|d| d.code != Code::UnknownType));
 }
 
 #[test]
