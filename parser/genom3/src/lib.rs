@@ -207,7 +207,7 @@ fn ast_has_own_statement(ast: &ast::Ast, builtin: FileId) -> bool {
 }
 
 fn has_errors(d: &[Diagnostic]) -> bool {
-    d.iter().any(|d| d.code == genom_model::Code::Syntax)
+    d.iter().any(|d| d.code == Code::Syntax)
 }
 
 /// Appends "included from here" labels (innermost first) to diagnostics
