@@ -8,6 +8,7 @@
 //! (`None`, or left out of a list), so every consumer can walk the model
 //! without checking for errors again.
 
+pub mod genom3;
 pub mod idx;
 mod timing;
 pub mod types;
@@ -102,6 +103,8 @@ pub struct Component {
     pub services: IdVec<ServiceId, Service>,
     /// Codels of all services, grouped by service in source order.
     pub codels: IdVec<CodelId, Codel>,
+    /// GenoM3-only facts (`None` for a LANGUAGE.md component).
+    pub genom3: Option<Box<genom3::Genom3Info>>,
 }
 
 /// An IDL constant.
