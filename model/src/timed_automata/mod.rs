@@ -48,8 +48,8 @@
 //! Labels: `codel_SERVICE_CODEL` on the location where that codel runs,
 //! `overrun_THREAD` and `timeout_SERVICE` on the violation locations.
 //!
-//! The module's files: [`expr`] the expressions and statements,
-//! [`network`] the network's types, [`names`] the keyword renaming that the
+//! The module's files: `expr` the expressions and statements,
+//! `network` the network's types, `names` the keyword renaming that the
 //! printers share, and `builder` the construction from a component (one
 //! file per kind of process or concern).
 
