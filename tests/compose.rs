@@ -12,9 +12,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use genom_checker::engine::{Analysis, Limits, analyse_with};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::replay::{Claim, replay_claim};
 use genom_checker::{CheckOptions, check_source};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
 use genom_model::trace::Trace;
 use genom_parser::FsLoader;

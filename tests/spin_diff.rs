@@ -16,9 +16,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::{CheckOptions, check_source};
 use genom_export::{ExportInput, Format, Verification, export};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, Idx};
 use genom_model::{Code, Diagnostic, Severity};
 use genom_parser::FsLoader;

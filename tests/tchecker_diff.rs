@@ -40,9 +40,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;

@@ -24,8 +24,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::{CheckOptions, check_source};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::Component;
 use genom_parser::MemoryLoader;
 

@@ -7,15 +7,11 @@
 #[cfg(feature = "smt")]
 pub mod budget;
 pub mod checks;
-pub mod engine;
 pub mod explain;
-pub mod generate;
 mod pipeline;
-pub mod replay;
 pub mod resolve;
 #[cfg(test)]
 pub mod testing;
-pub mod timed;
-pub mod zones;
 
+pub use genom_engine::{engine, replay, timed, zones};
 pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};

@@ -667,10 +667,10 @@ mod tests {
 
     /// The resolved component, without exploring it.
     fn resolved(body: &str) -> Component {
-        let options = crate::CheckOptions::new().behaviour(false);
+        let options = genom_checker::CheckOptions::new().behaviour(false);
         let text = format!("{HEADER}{body}");
         let loader = genom_parser::MemoryLoader::new();
-        crate::check_source(std::path::Path::new("t.gen"), text, &loader, &options)
+        genom_checker::check_source(std::path::Path::new("t.gen"), text, &loader, &options)
             .component
             .expect("a component")
     }

@@ -10,7 +10,7 @@
 //!   discrete part and the *same* zone (a wrapper model whose zones compare
 //!   by equality; the engine is unchanged).
 //!
-//! `cargo bench -p genom-checker --bench zones -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p genom-engine --bench zones -- --warm-up-time 1 --measurement-time 3`
 //!
 //! Before measuring, each case is explored once per variant and its figures
 //! are printed on stderr: symbolic states, transitions, time, symbolic
@@ -24,12 +24,12 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use genom_checker::engine::explore::{Limits, Model, explore};
-use genom_checker::engine::store::Subsumes;
-use genom_checker::generate::{GeneratorConfig, generate};
-use genom_checker::timed::model::{TAction, TState, TimedSystem};
-use genom_checker::zones::dbm::Dbm;
 use genom_checker::{CheckOptions, check_source};
+use genom_engine::engine::explore::{Limits, Model, explore};
+use genom_engine::engine::store::Subsumes;
+use genom_engine::timed::model::{TAction, TState, TimedSystem};
+use genom_engine::zones::dbm::Dbm;
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_parser::MemoryLoader;
@@ -138,7 +138,7 @@ fn explore_all(c: &Component, variant: Variant) -> Figures {
         complete: true,
         ..Figures::default()
     };
-    for (members, frozen) in genom_checker::timed::timed_explorations(c) {
+    for (members, frozen) in genom_engine::timed::timed_explorations(c) {
         let mut ts = TimedSystem::new(c, &b, &members, frozen);
         ts.extrapolate = variant != Variant::NoExtrapolation;
         let limits = Limits {

@@ -31,7 +31,7 @@
 use genom_model::behaviour::{Effect, Position};
 use genom_model::component::CodelId;
 
-use super::system::{Action, Config, System, conflict};
+use super::system::{Action, Config, Reduce, System, conflict};
 
 /// The static facts the reduction needs about the members of a system.
 #[derive(Debug, Clone, Default)]
@@ -47,6 +47,21 @@ pub struct Reduction {
     stoppable: Vec<bool>,
     /// Per member: it is the only member on its thread.
     own_thread: Vec<bool>,
+}
+
+impl System<'_> {
+    /// The same system, explored with partial-order reduction.
+    #[must_use]
+    pub fn with_reduction(self) -> Self {
+        let r = Reduction::new(&self);
+        self.reduced_by(r)
+    }
+}
+
+impl Reduce for Reduction {
+    fn stubborn(&self, sys: &System<'_>, cfg: &Config, actions: &mut [Action]) -> usize {
+        Reduction::stubborn(self, sys, cfg, actions)
+    }
 }
 
 impl Reduction {

@@ -23,6 +23,7 @@ pub mod petri_check;
 pub mod reduction;
 pub mod store;
 pub mod system;
+pub(crate) mod witness;
 
 pub use analysis::{Analysis, Blocked, analyse, analyse_with};
 pub use explore::{Limits, Stop};

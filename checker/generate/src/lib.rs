@@ -940,7 +940,7 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::{CheckOptions, CheckResult, check_source};
+    use genom_checker::{CheckOptions, CheckResult, check_source};
 
     fn check(text: &str, behaviour: bool) -> CheckResult {
         let options = CheckOptions::new()
