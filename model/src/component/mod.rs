@@ -213,6 +213,34 @@ pub struct Service {
 }
 
 impl Service {
+    /// A service with only its name and kind: no thread, codels or rules
+    /// yet (each front-end fills them in as it resolves the body).
+    pub fn empty(name: Named, kind: ServiceKind, kind_span: Option<Span>) -> Self {
+        Service {
+            name,
+            kind,
+            kind_span,
+            doc: None,
+            thread: None,
+            reports: Vec::new(),
+            max_time: None,
+            credential: 0,
+            credential_span: None,
+            stops: Vec::new(),
+            delays: Vec::new(),
+            forbids: Vec::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            imports: Vec::new(),
+            exports: Vec::new(),
+            codels: Vec::new(),
+            start: None,
+            control: None,
+        }
+    }
+}
+
+impl Service {
     /// True when the service runs on an execution thread (has a start codel).
     pub fn runs_on_thread(&self) -> bool {
         self.start.is_some()

@@ -737,30 +737,14 @@ impl<'a> Ctx<'a> {
 }
 
 fn empty_service(s: &ast::Service) -> Service {
-    Service {
-        name: Named {
+    Service::empty(
+        Named {
             name: s.name.name.clone(),
             span: s.name.span,
         },
-        kind: ServiceKind::Plain,
-        kind_span: None,
-        doc: None,
-        thread: None,
-        reports: Vec::new(),
-        max_time: None,
-        credential: 0,
-        credential_span: None,
-        stops: Vec::new(),
-        delays: Vec::new(),
-        forbids: Vec::new(),
-        inputs: Vec::new(),
-        outputs: Vec::new(),
-        imports: Vec::new(),
-        exports: Vec::new(),
-        codels: Vec::new(),
-        start: None,
-        control: None,
-    }
+        ServiceKind::Plain,
+        None,
+    )
 }
 
 fn append_doc(doc: &mut Option<String>, line: &str) {
