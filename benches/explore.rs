@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_check::{CheckOptions, check_source};
-use genom_checker::generate::{GeneratorConfig, generate};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::Component;
 use genom_parser::MemoryLoader;
 

@@ -213,7 +213,7 @@ pub struct ExplainArgs {
 }
 
 /// Arguments of the hidden `generate` subcommand (see
-/// `genom_checker::generate`).
+/// `genom_generate`).
 #[derive(Debug, Clone, Args)]
 pub struct GenerateArgs {
     /// Seed of the random choices: the same arguments print the same text.

@@ -7,7 +7,12 @@ use genom_model::Code;
 
 /// The explanation of a code, in Markdown.
 pub fn explanation(code: Code) -> String {
-    let body = body(code);
+    explanation_with(code, body(code))
+}
+
+/// The explanation of a code whose text lives in another front-end (the
+/// GenoM3 codes: `genom_genom3::explain`), in the same format.
+pub fn explanation_with(code: Code, body: &str) -> String {
     let header = format!(
         "# `{}` ({})\n\n{}.\n",
         code.as_str(),
@@ -68,6 +73,16 @@ fn body(code: Code) -> &'static str {
         Code::MaxTimeExceeded => max_time::EXPLANATION_EXCEEDED,
         Code::MaxTimeWatchdog => max_time::EXPLANATION_WATCHDOG,
         Code::MissingWcet => missing_wcet::EXPLANATION,
+        // The GenoM3 front-end's codes: their texts are in
+        // `genom_genom3::explain` (the CLI asks it first).
+        Code::IgnoredDirective
+        | Code::UnknownState
+        | Code::UnreachableState
+        | Code::StopNoEther
+        | Code::AsyncSharedData
+        | Code::MissingSource
+        | Code::UnknownInterface
+        | Code::BadWcet => "",
     }
 }
 

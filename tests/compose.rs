@@ -13,8 +13,8 @@ use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
 use genom_checker::engine::{Analysis, Limits, analyse_with};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_checker::replay::{Claim, replay_claim};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
 use genom_model::trace::Trace;
 use genom_parser::FsLoader;

@@ -292,10 +292,10 @@ fn a_huge_single_cluster_stops_cleanly_on_its_limits() {
     // 2,000 generated services linked by rules into one large cluster:
     // every state has thousands of successors. The limits must still stop
     // the exploration (within a state's expansion).
-    let mut config = genom_checker::generate::GeneratorConfig::new(7, 2_000);
+    let mut config = genom_generate::GeneratorConfig::new(7, 2_000);
     config.codels_per_service = 10;
     config.threads = 4;
-    let text = genom_checker::generate::generate(&config);
+    let text = genom_generate::generate(&config);
     let figures = check_huge("cluster.gen", &text);
     assert!(figures.contains("complete false"), "{figures}");
 }

@@ -1,11 +1,11 @@
 //! The Petri-net cross-check (see `petri_cross_check.rs`) on components of
-//! the crate's random generator (`genom_checker::generate`), whose space
+//! the random generator (`genom_generate`), whose space
 //! (up to six services, three threads, init, autos, setters, dense rules)
 //! is wider than the small generator of the main cross-check.
 
 mod petri_common;
 
-use genom_checker::generate::{GeneratorConfig, generate};
+use genom_generate::{GeneratorConfig, generate};
 use petri_common::{cross_check, parse};
 
 #[test]

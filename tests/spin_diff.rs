@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use genom_check::{CheckOptions, check_source};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_export::{ExportInput, Format, Verification, export};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, Idx};
 use genom_model::{Code, Diagnostic, Severity};
 use genom_parser::FsLoader;

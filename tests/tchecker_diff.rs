@@ -41,8 +41,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use genom_check::{CheckOptions, CheckResult};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_export::{ExportInput, Format, Verification};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;

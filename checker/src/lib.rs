@@ -5,15 +5,11 @@
 #[cfg(feature = "smt")]
 pub mod budget;
 pub mod checks;
-pub mod engine;
-pub mod generate;
-pub mod replay;
 #[cfg(test)]
 pub mod testing;
-pub mod timed;
 mod verify;
-pub mod zones;
 
+pub use genom_engine::{engine, replay, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};
 pub use verify::{CheckOptions, Verdicts, verify};

@@ -14,8 +14,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, check_file, check_source};
-use genom_checker::generate::{GeneratorConfig, generate};
 use genom_export::{ExportInput, Exported, Format, Verification};
+use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;

@@ -151,6 +151,22 @@ codes! {
     Incomplete = "incomplete", Error, "a limit stopped verification before it finished";
     /// A weaker credential controls a stronger one.
     PrivilegeEscalation = "privilege-escalation", Warning, "a service requestable with a weaker credential controls one that needs a stronger credential";
+    /// A preprocessor directive the GenoM3 front end does not interpret.
+    IgnoredDirective = "ignored-directive", Advice, "a GenoM3 preprocessor directive that is ignored";
+    /// A GenoM3 `yield` or state naming no state of its owner.
+    UnknownState = "unknown-state", Error, "a GenoM3 codel yields to, or runs in, a state that no codel of its owner declares";
+    /// A GenoM3 codel state that no yield from `start` or `stop` reaches.
+    UnreachableState = "unreachable-state", Error, "a GenoM3 codel state that no path of yields from `start` or `stop` reaches";
+    /// A GenoM3 `stop` codel from which `ether` cannot be reached.
+    StopNoEther = "stop-no-ether", Error, "a GenoM3 `codel<stop>` from which no path of yields reaches `ether`";
+    /// A GenoM3 `async` codel sharing data with a codel of another task.
+    AsyncSharedData = "async-shared-data", Error, "a GenoM3 `async` codel uses ids data that a codel of another task also uses";
+    /// A GenoM3 codel parameter that could be several things.
+    MissingSource = "missing-source", Error, "a GenoM3 codel parameter name that matches several sources (ids, local, port, remote) and has no qualifier";
+    /// A GenoM3 `provides`/`uses` naming no interface.
+    UnknownInterface = "unknown-interface", Error, "a GenoM3 `provides` or `uses` names no known interface";
+    /// A malformed or unresolved line of a WCET side file.
+    BadWcet = "bad-wcet", Error, "a WCET side-file line that is malformed or names an unknown owner or state";
 }
 
 impl fmt::Display for Code {

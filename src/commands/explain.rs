@@ -9,7 +9,11 @@ use crate::cli::ExplainArgs;
 pub fn run(args: &ExplainArgs) -> u8 {
     match args.code.parse::<Code>() {
         Ok(code) => {
-            crate::terminal::emit(&genom_check::explain::explanation(code));
+            let text = match genom_genom3::explain::explanation(code) {
+                Some(body) => genom_check::explain::explanation_with(code, body),
+                None => genom_check::explain::explanation(code),
+            };
+            crate::terminal::emit(&text);
             EXIT_OK
         }
         Err(e) => {

@@ -1,7 +1,7 @@
 //! `genom-check generate --seed N --services K ...` (hidden): prints a
 //! random valid component, for benchmarks and tests.
 
-use genom_checker::generate::{GeneratorConfig, generate};
+use genom_generate::{GeneratorConfig, generate};
 
 use super::{EXIT_OK, EXIT_USAGE};
 use crate::cli::GenerateArgs;

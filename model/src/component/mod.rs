@@ -8,6 +8,7 @@
 //! (`None`, or left out of a list), so every consumer can walk the model
 //! without checking for errors again.
 
+pub mod genom3;
 pub mod idx;
 mod timing;
 pub mod types;
@@ -102,6 +103,8 @@ pub struct Component {
     pub services: IdVec<ServiceId, Service>,
     /// Codels of all services, grouped by service in source order.
     pub codels: IdVec<CodelId, Codel>,
+    /// GenoM3-only facts (`None` for a LANGUAGE.md component).
+    pub genom3: Option<Box<genom3::Genom3Info>>,
 }
 
 /// An IDL constant.
@@ -207,6 +210,34 @@ pub struct Service {
     pub start: Option<CodelId>,
     /// Its control codel.
     pub control: Option<CodelId>,
+}
+
+impl Service {
+    /// A service with only its name and kind: no thread, codels or rules
+    /// yet (each front-end fills them in as it resolves the body).
+    pub fn empty(name: Named, kind: ServiceKind, kind_span: Option<Span>) -> Self {
+        Service {
+            name,
+            kind,
+            kind_span,
+            doc: None,
+            thread: None,
+            reports: Vec::new(),
+            max_time: None,
+            credential: 0,
+            credential_span: None,
+            stops: Vec::new(),
+            delays: Vec::new(),
+            forbids: Vec::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            imports: Vec::new(),
+            exports: Vec::new(),
+            codels: Vec::new(),
+            start: None,
+            control: None,
+        }
+    }
 }
 
 impl Service {

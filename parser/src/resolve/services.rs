@@ -270,27 +270,7 @@ impl Resolver {
 }
 
 fn empty_service(s: &ast::Service) -> Service {
-    Service {
-        name: named(&s.name),
-        kind: s.kind,
-        kind_span: s.kind_span,
-        doc: None,
-        thread: None,
-        reports: Vec::new(),
-        max_time: None,
-        credential: 0,
-        credential_span: None,
-        stops: Vec::new(),
-        delays: Vec::new(),
-        forbids: Vec::new(),
-        inputs: Vec::new(),
-        outputs: Vec::new(),
-        imports: Vec::new(),
-        exports: Vec::new(),
-        codels: Vec::new(),
-        start: None,
-        control: None,
-    }
+    Service::empty(named(&s.name), s.kind, s.kind_span)
 }
 
 /// The name of a field step.

@@ -1,0 +1,711 @@
+//! Runs the explorations (pre-init phase, then each cluster) and reads the
+//! behavioural properties off the reachable states, keeping for each
+//! violation the first (hence shortest) state that shows it and a trace
+//! replayed in the whole component.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Duration;
+
+use genom_model::behaviour::{Behaviour, IDLE};
+use genom_model::component::{CodelId, Component, ServiceId};
+use genom_model::trace::{Event, Trace, TraceStep};
+
+use super::compose::{self, Composed, Env, Step};
+use super::explore::{Exploration, Limits, Stop, explore};
+use super::store::{StateId, Subsumes};
+use super::system::{Action, Config, System};
+use super::witness::replay;
+
+/// Pending instances waiting on each other forever.
+#[derive(Debug, Clone)]
+pub struct Deadlock {
+    /// The services of the cycle, sorted.
+    pub services: Vec<ServiceId>,
+    /// How to get there.
+    pub trace: Trace,
+}
+
+/// A pending instance waiting on an instance that may never end.
+#[derive(Debug, Clone)]
+pub struct Starvation {
+    /// The pending service.
+    pub waiter: ServiceId,
+    /// The service whose instance may never end.
+    pub blocker: ServiceId,
+    /// Blocked through `delays` (else waiting for an interrupted instance).
+    pub via_delays: bool,
+    /// How to get there, ending with the loop that may repeat forever.
+    pub trace: Trace,
+}
+
+/// An interrupted instance whose inter codels may loop forever.
+#[derive(Debug, Clone)]
+pub struct Unbounded {
+    /// The service.
+    pub service: ServiceId,
+    /// How to get there, ending with the loop.
+    pub trace: Trace,
+}
+
+/// A service that never starts, with what stops it.
+#[derive(Debug, Clone)]
+pub struct Blocked {
+    /// The service.
+    pub service: ServiceId,
+    /// Why, in words.
+    pub reason: String,
+    /// A trace showing it blocked or rejected.
+    pub trace: Trace,
+}
+
+/// Everything the explorations established.
+#[derive(Debug, Clone, Default)]
+pub struct Analysis {
+    /// Codels some execution runs (control codels: some request reaches them).
+    pub reached: BTreeSet<CodelId>,
+    /// Services some execution starts (or, without start codel, accepts).
+    pub started: BTreeSet<ServiceId>,
+    /// Deadlocks found.
+    pub deadlocks: Vec<Deadlock>,
+    /// Starvations found.
+    pub starvations: Vec<Starvation>,
+    /// Unbounded interrupts found.
+    pub unbounded: Vec<Unbounded>,
+    /// Services proven never to start.
+    pub dead: Vec<Blocked>,
+    /// Services whose exploration did not finish: nothing negative is
+    /// claimed about them.
+    pub unproven: BTreeSet<ServiceId>,
+    /// Why exploration stopped early, if it did.
+    pub stopped: Option<Stop>,
+    /// States stored over all explorations.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+    /// Time spent exploring.
+    pub elapsed: Duration,
+    /// Bytes per stored state (largest exploration).
+    pub bytes_per_state: f64,
+    /// States expanded with a reduced set of actions (partial-order
+    /// reduction).
+    pub reduced: u64,
+    /// Parts explored compositionally (clusters split by
+    /// [`super::compose`]).
+    pub parts: u64,
+    /// Services not started in their exploration, with why and a trace
+    /// (they are dead unless another exploration starts them).
+    dead_candidates: BTreeMap<ServiceId, Blocked>,
+}
+
+/// Witnesses found in one exploration, by state id.
+#[derive(Default)]
+pub(crate) struct Found {
+    pub(crate) reached: BTreeSet<CodelId>,
+    pub(crate) started: BTreeSet<ServiceId>,
+    pub(crate) deadlocks: BTreeMap<Vec<ServiceId>, StateId>,
+    pub(crate) starvations: BTreeMap<(ServiceId, ServiceId), (StateId, bool)>,
+    pub(crate) unbounded: BTreeMap<ServiceId, StateId>,
+    pub(crate) pending: BTreeMap<ServiceId, StateId>,
+    pub(crate) init_success: Option<StateId>,
+    pub(crate) root: Option<StateId>,
+}
+
+/// How to turn the witnesses of one exploration into traces: the
+/// exploration's untimed system, the configuration of a state, and the trace
+/// to a state (with, optionally, a service whose loop ends it, and the last
+/// step).
+pub(crate) struct Witnesses<'w> {
+    pub(crate) sys: &'w System<'w>,
+    pub(crate) config: &'w dyn Fn(StateId) -> Config,
+    pub(crate) trace: &'w dyn Fn(StateId, Option<ServiceId>, TraceStep) -> Trace,
+}
+
+/// Explores the component and gathers every behavioural fact, with
+/// partial-order reduction.
+pub fn analyse(c: &Component, limits: Limits) -> Analysis {
+    analyse_with(c, limits, true)
+}
+
+/// [`analyse`], with partial-order reduction (`reduce`) or exploring every
+/// interleaving.
+pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
+    let b = Behaviour::new(c);
+    let all: Vec<ServiceId> = c.services.ids().collect();
+    let global = System::new(c, &b, &all, false);
+    let mut out = Analysis::default();
+    let mut budget = limits;
+    let (prefix, post_init) = match c.init_service() {
+        Some(init) => pre_init(c, &b, init, &global, &mut budget, &mut out),
+
+        None => (Vec::new(), Some(true)),
+    };
+    match post_init {
+        Some(true) => {
+            for cluster in clusters(c) {
+                let whole = Whole {
+                    c,
+                    b: &b,
+                    prefix: &prefix,
+                    global: &global,
+                };
+                if !(reduce && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
+                    let sys = System::new(c, &b, &cluster, false);
+                    let sys = if reduce { sys.with_reduction() } else { sys };
+                    explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);
+                }
+            }
+        }
+        Some(false) => {}
+        None => out.unproven.extend(all.iter().copied()),
+    }
+    dead_services(c, &global, post_init, &mut out);
+    out
+}
+
+/// Explores the init service alone until it completes. Returns the path to
+/// its first success and whether it can succeed (`None`: unknown).
+fn pre_init(
+    c: &Component,
+    b: &Behaviour,
+    init: ServiceId,
+    global: &System<'_>,
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> (Vec<Action>, Option<bool>) {
+    let sys = System::new(c, b, &[init], true);
+    let mut found = Found::default();
+    let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
+    out.account(budget, &e);
+    let prefix = found
+        .init_success
+        .map(|id| e.store.path(id))
+        .unwrap_or_default();
+    let config = |id: StateId| e.store_config(&sys, id);
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        replay(global, &e.store.path(id), looping, last)
+    };
+    collect(
+        &Witnesses {
+            sys: &sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
+    let complete = e.stopped.is_none();
+    if !complete {
+        out.unproven.insert(init);
+    }
+    let post = match (found.init_success, complete) {
+        (Some(_), _) => Some(true),
+        (None, true) => Some(false),
+        (None, false) => None,
+    };
+    (prefix, post)
+}
+
+fn explore_cluster(
+    sys: &System<'_>,
+    prefix: &[Action],
+    global: &System<'_>,
+    budget: &mut Limits,
+    out: &mut Analysis,
+) {
+    if sys.too_many_stops() {
+        out.unproven.extend(sys.services());
+        out.stopped.get_or_insert(Stop::States);
+        return;
+    }
+    let mut found = Found::default();
+    let e = explore(sys, *budget, |id, cfg| visit(sys, id, cfg, &mut found));
+    out.account(budget, &e);
+    if e.stopped.is_some() {
+        out.unproven.extend(sys.services());
+    }
+    let config = |id: StateId| e.store_config(sys, id);
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        let full: Vec<Action> = prefix.iter().copied().chain(e.store.path(id)).collect();
+        replay(global, &full, looping, last)
+    };
+    collect(
+        &Witnesses {
+            sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
+}
+
+/// What every exploration of a cluster shares.
+struct Whole<'w> {
+    c: &'w Component,
+    b: &'w Behaviour,
+    /// The path to the end of initialisation.
+    prefix: &'w [Action],
+    /// The whole component, to replay traces in.
+    global: &'w System<'w>,
+}
+
+/// Largest environment automaton kept between parts.
+const MAX_ENV_STATES: usize = 4096;
+
+/// Largest search for a concrete execution of one witness of a part.
+const CONCRETE_MAX_STATES: usize = 1_000_000;
+
+/// Explores a cluster part by part (see [`compose`]). Returns `false`, with
+/// `out` untouched, when the cluster has one part, an interface is too wide,
+/// an environment too large, or a part's witness cannot be made concrete:
+/// the caller then explores the cluster whole.
+fn explore_parts(
+    w: &Whole<'_>,
+    cluster: &[ServiceId],
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> bool {
+    let plan = compose::Plan::new(w.c, cluster);
+    if plan.parts.len() < 2 || !plan.fits() {
+        return false;
+    }
+    let mut env = Env::empty();
+    let mut tmp = Analysis::default();
+    let mut local = *budget;
+    for (k, part) in plan.parts.iter().enumerate() {
+        let sys = System::with_inputs(w.c, w.b, part, &plan.inputs[k], false);
+        if sys.too_many_stops() {
+            return false;
+        }
+        let Some(model) = Composed::new(sys, &env) else {
+            return false;
+        };
+        let cone = System::new(w.c, w.b, &plan.cone(k), false);
+        let Some(e) = explore_part(w, &model, &cone, &mut local, &mut tmp) else {
+            return false;
+        };
+        if e.stopped.is_some() {
+            // A limit stopped it: what earlier parts established stands;
+            // later parts, explored with its projection, would not be exact.
+            tmp.unproven
+                .extend(plan.parts[k..].iter().flatten().copied());
+            break;
+        }
+        let next = match plan.interface(k) {
+            [] => Env::empty(),
+            later => match compose::project(&model, &e, later, MAX_ENV_STATES) {
+                Some(next) => next,
+                None => return false,
+            },
+        };
+        drop(model);
+        env = next;
+    }
+    tmp.parts += plan.parts.len() as u64;
+    out.absorb(tmp);
+    *budget = local;
+    true
+}
+
+/// Explores one composed part and collects its witnesses, made concrete in
+/// `cone` (the part and its upstream). `None` when a witness cannot be made
+/// concrete.
+fn explore_part(
+    w: &Whole<'_>,
+    model: &Composed<'_>,
+    cone: &System<'_>,
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> Option<Exploration<Step>> {
+    let sys = &model.sys;
+    let mut found = Found::default();
+    let e = explore(model, *budget, |id, st| visit(sys, id, &st.0, &mut found));
+    out.account(budget, &e);
+    let failed = std::cell::Cell::new(false);
+    // Making witnesses concrete is trace production, not exploration: it
+    // has its own bound (past it, the cluster is explored whole).
+    let cap = CONCRETE_MAX_STATES;
+    let config = |id: StateId| e.store_config(model, id).0;
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| match compose::concretize(
+        model,
+        cone,
+        &e.store.path(id),
+        cap,
+    ) {
+        Some(path) => {
+            let full: Vec<Action> = w.prefix.iter().copied().chain(path).collect();
+            replay(w.global, &full, looping, last)
+        }
+        None => {
+            failed.set(true);
+            Trace::default()
+        }
+    };
+    collect(
+        &Witnesses {
+            sys,
+            config: &config,
+            trace: &trace,
+        },
+        &found,
+        out,
+    );
+    (!failed.get()).then_some(e)
+}
+
+impl Analysis {
+    /// Adds everything `other` established (explorations of disjoint
+    /// services).
+    fn absorb(&mut self, other: Analysis) {
+        self.reached.extend(other.reached);
+        self.started.extend(other.started);
+        self.deadlocks.extend(other.deadlocks);
+        self.starvations.extend(other.starvations);
+        self.unbounded.extend(other.unbounded);
+        self.dead.extend(other.dead);
+        self.unproven.extend(other.unproven);
+        self.stopped = self.stopped.or(other.stopped);
+        self.states += other.states;
+        self.transitions += other.transitions;
+        self.elapsed += other.elapsed;
+        self.bytes_per_state = self.bytes_per_state.max(other.bytes_per_state);
+        self.reduced += other.reduced;
+        self.parts += other.parts;
+        for (s, b) in other.dead_candidates {
+            self.dead_candidates.entry(s).or_insert(b);
+        }
+    }
+
+    /// Adds the figures of one exploration and charges its states to the
+    /// remaining budget.
+    pub(crate) fn account<A: Copy, Z: Subsumes>(
+        &mut self,
+        budget: &mut Limits,
+        e: &Exploration<A, Z>,
+    ) {
+        let states = e.store.len();
+        self.states += states as u64;
+        self.transitions += e.transitions;
+        self.elapsed += e.elapsed;
+        self.reduced += e.reduced;
+        self.bytes_per_state = self.bytes_per_state.max(e.store.bytes_per_state());
+        budget.max_states = budget.max_states.saturating_sub(states).max(1);
+        if e.stopped.is_some() {
+            self.stopped = self.stopped.or(e.stopped);
+        }
+    }
+}
+
+/// Reads the properties of one new state.
+pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
+    let c = sys.component();
+    found.root.get_or_insert(id);
+    if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
+        found.init_success = Some(id);
+    }
+    let n = cfg.main.len();
+    let running = sys.running(cfg);
+    for i in (0..n).filter(|&i| !sys.is_input(i)) {
+        let s = sys.service(i);
+        let m = sys.machine_of(i);
+        let pos = sys.position(cfg, i);
+        if let Some(codel) = pos.codel().filter(|_| pos.is_running()) {
+            found.reached.insert(codel);
+        }
+        if cfg.main[i] != IDLE {
+            found.started.insert(s);
+        }
+        if sys.request_enabled_among(cfg, i, &running) {
+            if let Some(k) = c.services[s].control {
+                found.reached.insert(k);
+            }
+            if m.start.is_none() {
+                found.started.insert(s);
+            }
+        }
+        if m.stop_loops[usize::from(cfg.main[i])] {
+            found.unbounded.entry(s).or_insert(id);
+        }
+        if cfg.pending[i].is_some() {
+            found.pending.entry(s).or_insert(id);
+            starving(sys, id, cfg, i, found);
+        }
+    }
+    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
+        if let Some(cycle) = pending_cycle(sys, cfg) {
+            found.deadlocks.entry(cycle).or_insert(id);
+        }
+    }
+}
+
+fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
+    if sys.machine_of(i).watchdog {
+        return;
+    }
+    for (t, via_delays) in sys.blockers(cfg, i) {
+        if sys.may_never_end(cfg, t) {
+            found
+                .starvations
+                .entry((sys.service(i), sys.service(t)))
+                .or_insert((id, via_delays));
+        }
+    }
+}
+
+/// Services of a cycle of pending instances blocking each other through
+/// `delays`, none of which a watchdog can end.
+fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
+    let n = cfg.main.len();
+    let node =
+        |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
+    let edges: Vec<Vec<usize>> = (0..n)
+        .map(|i| {
+            if !node(i) {
+                return Vec::new();
+            }
+            sys.blockers(cfg, i)
+                .into_iter()
+                .filter(|&(t, d)| d && node(t))
+                .map(|(t, _)| t)
+                .collect()
+        })
+        .collect();
+    let reach = |from: usize| {
+        let mut seen = vec![false; n];
+        let mut stack = edges[from].clone();
+        while let Some(x) = stack.pop() {
+            if !std::mem::replace(&mut seen[x], true) {
+                stack.extend(edges[x].iter().copied());
+            }
+        }
+        seen
+    };
+    let closure: Vec<Vec<bool>> = (0..n).map(reach).collect();
+    let on_cycle: Vec<usize> = (0..n).filter(|&i| closure[i][i]).collect();
+    let first = *on_cycle.first()?;
+    let mut cycle: Vec<ServiceId> = on_cycle
+        .iter()
+        .filter(|&&j| closure[first][j] && closure[j][first])
+        .map(|&j| sys.service(j))
+        .collect();
+    cycle.sort();
+    Some(cycle)
+}
+
+/// Turns the witnesses of one exploration into traces.
+pub(crate) fn collect(w: &Witnesses<'_>, found: &Found, out: &mut Analysis) {
+    let c = w.sys.component();
+    out.reached.extend(found.reached.iter().copied());
+    out.started.extend(found.started.iter().copied());
+    for (services, &id) in &found.deadlocks {
+        let text = format!(
+            "deadlock: {} are pending and wait on each other forever",
+            names(c, services)
+        );
+        let trace = (w.trace)(id, None, violation(text));
+        out.deadlocks.push(Deadlock {
+            services: services.clone(),
+            trace,
+        });
+    }
+    for (&(waiter, blocker), &(id, via_delays)) in &found.starvations {
+        let (wn, bn) = (
+            &c.services[waiter].name.name,
+            &c.services[blocker].name.name,
+        );
+        let text = format!("`{wn}` waits for `{bn}`, whose instance may never end");
+        let trace = (w.trace)(id, Some(blocker), violation(text));
+        out.starvations.push(Starvation {
+            waiter,
+            blocker,
+            via_delays,
+            trace,
+        });
+    }
+    for (&service, &id) in &found.unbounded {
+        let text = format!(
+            "`{}` is interrupted and its inter codels may loop forever",
+            c.services[service].name.name
+        );
+        let trace = (w.trace)(id, Some(service), violation(text));
+        out.unbounded.push(Unbounded { service, trace });
+    }
+    for s in w.sys.services() {
+        if !found.started.contains(&s) && !out.dead_candidates.contains_key(&s) {
+            if let Some(blocked) = never_started(w, found, s) {
+                out.dead_candidates.insert(s, blocked);
+            }
+        }
+    }
+}
+
+/// Why `s` never starts in this exploration, with a trace: it stays
+/// pending, or its requests are rejected once initialisation is done.
+fn never_started(w: &Witnesses<'_>, found: &Found, s: ServiceId) -> Option<Blocked> {
+    let c = w.sys.component();
+    let name = &c.services[s].name.name;
+    if let Some(&id) = found.pending.get(&s) {
+        let reason =
+            format!("`{name}` is acknowledged but never starts: it is always delayed or waiting");
+        let trace = (w.trace)(id, None, violation(reason.clone()));
+        return Some(Blocked {
+            service: s,
+            reason,
+            trace,
+        });
+    }
+    let at = found.init_success.or(found.root)?;
+    let cfg = (w.config)(at);
+    let (code, reason) = reject_reason(w.sys, &cfg, s);
+    let mut trace = (w.trace)(at, None, violation(format!("`{name}` never starts")));
+    splice_rejection(c, &mut trace, s, code, &reason);
+    Some(Blocked {
+        service: s,
+        reason,
+        trace,
+    })
+}
+
+/// Inserts a request of `s` and its rejection before the last step.
+fn splice_rejection(
+    c: &Component,
+    trace: &mut Trace,
+    s: ServiceId,
+    code: Option<&'static str>,
+    reason: &str,
+) {
+    let name = &c.services[s].name.name;
+    let at = trace.steps.len().saturating_sub(1);
+    let time = trace.steps.get(at).and_then(|st| st.time_ns);
+    let span = Some(c.services[s].name.span);
+    let mut req = TraceStep::new(Event::Request, format!("a client requests `{name}`"));
+    (req.service, req.span, req.thread, req.time_ns) =
+        (Some(name.clone()), span, Some("control".to_owned()), time);
+    let mut rej = TraceStep::new(Event::Reject, format!("the request is rejected: {reason}"));
+    (rej.service, rej.span, rej.outcome, rej.time_ns) =
+        (Some(name.clone()), span, code.map(str::to_owned), time);
+    rej.thread = Some("control".to_owned());
+    trace.steps.splice(at..at, [req, rej]);
+}
+
+fn violation(text: String) -> TraceStep {
+    TraceStep::new(Event::Violation, text)
+}
+
+/// "`a`", "`a` and `b`", "`a`, `b` and `c`".
+pub fn names(c: &Component, services: &[ServiceId]) -> String {
+    let list: Vec<String> = services
+        .iter()
+        .map(|&s| format!("`{}`", c.services[s].name.name))
+        .collect();
+    match list.as_slice() {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// Services that never start, after timed explorations (each with the init
+/// service): every candidate not started elsewhere and fully explored.
+pub(crate) fn finish_dead(c: &Component, global: &System<'_>, out: &mut Analysis) {
+    dead_services(c, global, Some(true), out);
+}
+
+/// Services that never start, when the explorations that could start them
+/// finished. When initialisation can never complete, every other service is
+/// dead: its requests are rejected with `NOT_INITIALIZED`.
+fn dead_services(c: &Component, global: &System<'_>, post_init: Option<bool>, out: &mut Analysis) {
+    let mut candidates = std::mem::take(&mut out.dead_candidates);
+    for s in c.services.ids() {
+        if out.started.contains(&s) || out.unproven.contains(&s) || post_init.is_none() {
+            continue;
+        }
+        let blocked = match candidates.remove(&s) {
+            Some(b) => b,
+            None => {
+                let cfg = global.initial(false, &mut None);
+                let (code, reason) = reject_reason(global, &cfg, s);
+                let name = &c.services[s].name.name;
+                let mut trace = replay(
+                    global,
+                    &[],
+                    None,
+                    violation(format!("`{name}` never starts")),
+                );
+                splice_rejection(c, &mut trace, s, code, &reason);
+                Blocked {
+                    service: s,
+                    reason,
+                    trace,
+                }
+            }
+        };
+        out.dead.push(blocked);
+    }
+}
+
+/// Returns the reject reason (the reply) and a sentence, for a request of
+/// `s` in `cfg` of `sys`.
+pub(crate) fn reject_reason(
+    sys: &System<'_>,
+    cfg: &Config,
+    s: ServiceId,
+) -> (Option<&'static str>, String) {
+    let c = sys.component();
+    if !cfg.init_done {
+        let init = c
+            .init_service()
+            .map_or("init", |i| c.services[i].name.name.as_str());
+        let text = format!("NOT_INITIALIZED, because `{init}` can never complete successfully");
+        return (Some("NOT_INITIALIZED"), text);
+    }
+    let forbidder = c.services.iter().find(|&(t, ts)| {
+        t != s
+            && ts.forbids.iter().any(|r| r.id == s)
+            && sys
+                .member_index(t)
+                .is_some_and(|j| System::has_instance(cfg, j))
+    });
+    match forbidder {
+        Some((_, t)) => (
+            Some("FORBIDDEN"),
+            format!("FORBIDDEN by `{}`, which runs forever", t.name.name),
+        ),
+        None => (None, "every request is rejected".to_owned()),
+    }
+}
+
+/// The clusters: connected components of the `stops`/`delays`/`forbids`
+/// relation, each sorted, in order of their first service.
+pub fn clusters(c: &Component) -> Vec<Vec<ServiceId>> {
+    let n = c.services.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(parent: &mut [usize], x: usize) -> usize {
+        let mut r = x;
+        while parent[r] != r {
+            r = parent[r];
+        }
+        let mut y = x;
+        while parent[y] != r {
+            let next = parent[y];
+            parent[y] = r;
+            y = next;
+        }
+        r
+    }
+    for (s, svc) in c.services.iter() {
+        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
+            let (a, b) = (
+                find(&mut parent, s.0 as usize),
+                find(&mut parent, r.id.0 as usize),
+            );
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
+    for s in c.services.ids() {
+        let root = find(&mut parent, s.0 as usize);
+        groups.entry(root).or_default().push(s);
+    }
+    groups.into_values().collect()
+}

@@ -1,0 +1,29 @@
+//! The behavioural engine: exhaustive exploration of the component's
+//! untimed semantics and the properties read off the reachable states
+//! (deadlock, starvation, unbounded interrupts, codel reachability, services
+//! that start).
+//!
+//! Exploration is compositional and exact: before the `init` service
+//! completes nothing else can run, so the *pre-init* phase explores the init
+//! service alone; afterwards the component splits into independent
+//! *clusters*, the connected components of the `stops`/`delays`/`forbids`
+//! relation. Services of different clusters never influence which states
+//! the others reach (threads and locks only delay codels that always finish),
+//! so each cluster is explored on its own from the unique post-init state,
+//! and every witness is replayed in the whole component for its trace.
+//! A cluster that splits into parts (strongly connected components of the
+//! depends-on relation) is explored part by part with an automaton of its
+//! upstream ([`compose`]); a cluster explored whole uses a partial-order
+//! reduction of quiet codel steps ([`reduction`]).
+
+pub mod analysis;
+pub mod compose;
+pub mod explore;
+pub mod petri_check;
+pub mod reduction;
+pub mod store;
+pub mod system;
+pub(crate) mod witness;
+
+pub use analysis::{Analysis, Blocked, analyse, analyse_with};
+pub use explore::{Limits, Stop};

@@ -1,0 +1,561 @@
+//! The untimed execution semantics of LANGUAGE.md section 3 over a set of
+//! *member* services (the whole component, or one independent cluster of
+//! it), as a [`Model`](super::explore::Model) for the explorer.
+//!
+//! A configuration holds, per member, the position of its main instance
+//! (see [`genom_model::behaviour`]) and its pending instance, if any, with
+//! the set of `stops` targets whose interrupted instance it still waits for
+//! (step 7b). Requests are handled atomically (steps 1–7); pending
+//! instances start as soon as they can (urgent), in service order; codels
+//! run in two steps (begin, finish) so that an interrupt can arrive while a
+//! codel runs. One function, [`System::apply`], defines every transition;
+//! with an event sink it also writes the trace.
+
+mod model;
+mod steps;
+
+use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
+use genom_model::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
+use genom_model::trace::TraceStep;
+
+/// A configuration of the member services.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Config {
+    /// Whether the `init` service has completed successfully (always true
+    /// without an init service).
+    pub init_done: bool,
+    /// Position of each member's main instance.
+    pub main: Vec<PosId>,
+    /// Each member's pending instance: the bits of the `stops` targets it
+    /// still waits for.
+    pub pending: Vec<Option<u64>>,
+    /// Whether each member's main instance was interrupted by its max-time
+    /// watchdog (it then replies `TIMEOUT` rather than `INTERRUPTED`).
+    pub timed_out: Vec<bool>,
+}
+
+/// A transition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Action {
+    /// A client requests a service and the request is accepted.
+    Request(ServiceId),
+    /// The service's thread starts its next codel.
+    Begin(ServiceId),
+    /// The running codel finishes, the `k`-th way.
+    Finish(ServiceId, u8),
+    /// The max-time watchdog fires on the pending (`true`) or main
+    /// instance.
+    Watchdog(ServiceId, bool),
+}
+
+impl Action {
+    /// The service the action is about.
+    pub fn service(self) -> ServiceId {
+        match self {
+            Action::Request(s)
+            | Action::Begin(s)
+            | Action::Finish(s, _)
+            | Action::Watchdog(s, _) => s,
+        }
+    }
+}
+
+/// Static facts about one member.
+#[derive(Debug, Clone)]
+struct Member {
+    service: ServiceId,
+    /// Member indices of its `stops` targets (bit `k` of a wait mask is
+    /// `stops[k]`).
+    stops: Vec<usize>,
+    /// Members `T != S` whose instances delay it.
+    delayers: Vec<usize>,
+    /// Members `T != S` whose instances make its requests rejected.
+    forbidders: Vec<usize>,
+    /// It lists itself in `stops`.
+    self_stop: bool,
+    /// Structures of its control codel, with write access.
+    control: Vec<(StructureId, bool)>,
+    /// Bits for its position, and whether it has a pending slot.
+    pos_bits: u32,
+    can_pend: bool,
+    /// Has a max-time watchdog (one bit of `timed_out` is stored).
+    watchdog: bool,
+    /// An *input*: a service of another part of the component whose
+    /// instance only matters here through `delays`/`forbids`; it takes no
+    /// step of its own. Its pending slot holds what the environment says:
+    /// `Some(0)` has an instance, `Some(1)` has one that may never end.
+    input: bool,
+}
+
+/// The member services and their rules.
+#[derive(Debug)]
+pub struct System<'a> {
+    c: &'a Component,
+    b: &'a Behaviour,
+    members: Vec<Member>,
+    /// Member index of each service of the component.
+    index: Vec<Option<usize>>,
+    /// The component's init service.
+    init: Option<ServiceId>,
+    /// Stop expanding once init has completed (the pre-init phase).
+    pre_init: bool,
+    /// Structures used by each codel of a member, with write access (empty
+    /// for the codels of other services).
+    codel_structures: Vec<Vec<(StructureId, bool)>>,
+    /// Words per encoded configuration.
+    width: usize,
+    /// The partial-order reduction, when reduction is on.
+    reduction: Option<Box<dyn Reduce>>,
+}
+
+/// A partial-order reduction of a system's steps (the one of
+/// `super::reduction` attaches itself with `System::with_reduction`).
+pub trait Reduce: std::fmt::Debug {
+    /// Moves a stubborn subset of `actions` (the actions enabled in `cfg`)
+    /// to the front and returns its length; `actions.len()` when there is
+    /// none smaller.
+    fn stubborn(&self, sys: &System<'_>, cfg: &Config, actions: &mut [Action]) -> usize;
+}
+
+impl<'a> System<'a> {
+    /// The system of `members` (sorted service ids). With `pre_init`,
+    /// states where init has completed are not expanded.
+    pub fn new(c: &'a Component, b: &'a Behaviour, members: &[ServiceId], pre_init: bool) -> Self {
+        Self::with_inputs(c, b, members, &[], pre_init)
+    }
+
+    /// The system of `members` and of the `inputs` (sorted service ids,
+    /// disjoint): inputs take no steps; their instances are set by
+    /// [`Self::set_input`] (see [`super::compose`]).
+    pub fn with_inputs(
+        c: &'a Component,
+        b: &'a Behaviour,
+        members: &[ServiceId],
+        inputs: &[ServiceId],
+        pre_init: bool,
+    ) -> Self {
+        let mut all: Vec<ServiceId> = members.iter().chain(inputs).copied().collect();
+        all.sort();
+        let members = all.as_slice();
+        let mut index = vec![None; c.services.len()];
+        for (i, &s) in members.iter().enumerate() {
+            index[s.0 as usize] = Some(i);
+        }
+        let (delayers, forbidders) = reverse_rules(c, &index, members);
+        let members: Vec<Member> = members
+            .iter()
+            .zip(delayers.into_iter().zip(forbidders))
+            .map(|(&s, rules)| member(c, b, &index, s, rules, inputs.contains(&s)))
+            .collect();
+        // Only the codels of members are ever asked about: computing the
+        // others for every cluster made many small clusters quadratic.
+        let codel_structures = c
+            .codels
+            .values()
+            .map(|k| match index[k.service.0 as usize] {
+                Some(_) => k.structures(),
+                None => Vec::new(),
+            })
+            .collect();
+        let width = width(&members);
+        System {
+            c,
+            b,
+            members,
+            index,
+            init: c.init_service(),
+            pre_init,
+            codel_structures,
+            width,
+            reduction: None,
+        }
+    }
+
+    /// The same system, explored with the partial-order reduction `r`.
+    #[must_use]
+    pub fn reduced_by(mut self, r: impl Reduce + 'static) -> Self {
+        self.reduction = Some(Box::new(r));
+        self
+    }
+
+    /// Member indices of the `stops` targets of member `i` (itself
+    /// included when it stops itself).
+    pub fn stops_of(&self, i: usize) -> &[usize] {
+        &self.members[i].stops
+    }
+
+    /// The component's init service.
+    pub fn init(&self) -> Option<ServiceId> {
+        self.init
+    }
+
+    /// The component.
+    pub fn component(&self) -> &'a Component {
+        self.c
+    }
+
+    /// The member services (inputs excluded).
+    pub fn services(&self) -> impl Iterator<Item = ServiceId> + '_ {
+        self.members.iter().filter(|m| !m.input).map(|m| m.service)
+    }
+
+    /// Whether member `i` is an input (takes no steps here).
+    pub fn is_input(&self, i: usize) -> bool {
+        self.members[i].input
+    }
+
+    /// Sets input member `i`: no instance (`None`), an instance, or one that
+    /// may never end.
+    pub fn set_input(cfg: &mut Config, i: usize, instance: Option<bool>) {
+        cfg.pending[i] = instance.map(u64::from);
+    }
+
+    /// Whether member `i` has an instance that may never end by itself (an
+    /// active loop without watchdog; for inputs, what the environment says).
+    pub fn may_never_end(&self, cfg: &Config, i: usize) -> bool {
+        if self.members[i].input {
+            return cfg.pending[i] == Some(1);
+        }
+        cfg.main[i] != IDLE && self.machine(i).may_never_end[usize::from(cfg.main[i])]
+    }
+
+    /// The member index of a service.
+    pub fn member_index(&self, s: ServiceId) -> Option<usize> {
+        self.index.get(s.0 as usize).copied().flatten()
+    }
+
+    fn machine(&self, i: usize) -> &'a ServiceMachine {
+        self.b.machine(self.members[i].service)
+    }
+
+    /// The position of member `i`.
+    pub fn position(&self, cfg: &Config, i: usize) -> Position {
+        self.machine(i).positions[usize::from(cfg.main[i])]
+    }
+
+    /// Whether member `i` has an instance (main or pending).
+    pub fn has_instance(cfg: &Config, i: usize) -> bool {
+        cfg.main[i] != IDLE || cfg.pending[i].is_some()
+    }
+
+    /// The configuration where nothing has happened yet: autos are
+    /// acknowledged when there is no init service (or `init_done`).
+    pub fn initial(&self, init_done: bool, events: &mut Option<&mut Vec<TraceStep>>) -> Config {
+        self.initial_with(init_done, |_| {}, events)
+    }
+
+    /// [`Self::initial`], with the inputs set by `inputs` first.
+    pub fn initial_with(
+        &self,
+        init_done: bool,
+        inputs: impl FnOnce(&mut Config),
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> Config {
+        let n = self.members.len();
+        let mut cfg = Config {
+            init_done: init_done || self.init.is_none(),
+            main: vec![IDLE; n],
+            pending: vec![None; n],
+            timed_out: vec![false; n],
+        };
+        inputs(&mut cfg);
+        if cfg.init_done {
+            self.start_autos(&mut cfg, events);
+            self.closure(&mut cfg, events);
+        }
+        cfg
+    }
+
+    /// Steps 1–3: whether a request for member `i` gets to its control
+    /// codel, and the control codel can take its locks now.
+    pub fn request_enabled(&self, cfg: &Config, i: usize) -> bool {
+        self.request_allowed(cfg, i) && !self.locked(cfg, &self.members[i].control, None)
+    }
+
+    /// [`Self::request_enabled`] given the codels [`Self::running`] in
+    /// `cfg`: callers asking for every member compute them once (a scan of
+    /// all members per call made each visited state quadratic).
+    pub fn request_enabled_among(
+        &self,
+        cfg: &Config,
+        i: usize,
+        running: &[(usize, CodelId)],
+    ) -> bool {
+        self.request_allowed(cfg, i)
+            && !self.locked_by(running.iter().copied(), &self.members[i].control, None)
+    }
+
+    /// Steps 1–2 (init, `forbids`, an instance already there).
+    fn request_allowed(&self, cfg: &Config, i: usize) -> bool {
+        let m = &self.members[i];
+        if !cfg.init_done && self.init != Some(m.service) {
+            return false;
+        }
+        if m.forbidders.iter().any(|&t| Self::has_instance(cfg, t)) {
+            return false;
+        }
+        !Self::has_instance(cfg, i) || m.self_stop
+    }
+
+    /// The members running a codel in `cfg`, with that codel.
+    pub fn running(&self, cfg: &Config) -> Vec<(usize, CodelId)> {
+        self.running_iter(cfg).collect()
+    }
+
+    fn running_iter<'c>(&'c self, cfg: &'c Config) -> impl Iterator<Item = (usize, CodelId)> + 'c {
+        (0..self.members.len()).filter_map(move |j| {
+            let p = self.position(cfg, j);
+            p.codel().filter(|_| p.is_running()).map(|codel| (j, codel))
+        })
+    }
+
+    /// Whether some running codel of another thread (or of `thread`)
+    /// conflicts with `uses`.
+    fn locked(
+        &self,
+        cfg: &Config,
+        uses: &[(StructureId, bool)],
+        thread: Option<(usize, ThreadId)>,
+    ) -> bool {
+        self.locked_by(self.running_iter(cfg), uses, thread)
+    }
+
+    /// [`Self::locked`] over the given running codels.
+    fn locked_by(
+        &self,
+        mut running: impl Iterator<Item = (usize, CodelId)>,
+        uses: &[(StructureId, bool)],
+        thread: Option<(usize, ThreadId)>,
+    ) -> bool {
+        running.any(|(j, codel)| {
+            if let Some((me, t)) = thread {
+                if j == me {
+                    return false;
+                }
+                if self.machine(j).thread == Some(t) {
+                    return true;
+                }
+            }
+            conflict(uses, &self.codel_structures[codel.0 as usize])
+        })
+    }
+
+    /// Whether member `i` may begin `codel` now: its thread is free and no
+    /// running codel of another thread conflicts with it.
+    pub fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
+        let thread = self.machine(i).thread.map(|t| (i, t));
+        let uses = &self.codel_structures[codel.0 as usize];
+        !self.locked(cfg, uses, thread)
+    }
+
+    /// The structures a codel of a member uses, with write access (empty
+    /// for a codel of another service).
+    pub fn codel_uses(&self, codel: CodelId) -> &[(StructureId, bool)] {
+        &self.codel_structures[codel.0 as usize]
+    }
+
+    /// The structures member `i`'s control codel uses, with write access.
+    pub fn control_uses(&self, i: usize) -> &[(StructureId, bool)] {
+        &self.members[i].control
+    }
+
+    /// Number of members.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// True without members.
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
+    /// The service of member `i`.
+    pub fn service(&self, i: usize) -> ServiceId {
+        self.members[i].service
+    }
+
+    /// The local machine of member `i`.
+    pub fn machine_of(&self, i: usize) -> &'a ServiceMachine {
+        self.machine(i)
+    }
+}
+
+/// Whether two uses conflict: a shared structure written by one of them.
+pub use genom_model::component::uses_conflict as conflict;
+
+/// For each member (in order), the other members whose `delays`, and
+/// those whose `forbids`, name it: ascending, without repetition. One pass
+/// over the members' rules (scanning every service for every member was
+/// quadratic in the size of the component).
+fn reverse_rules(
+    c: &Component,
+    index: &[Option<usize>],
+    members: &[ServiceId],
+) -> (Vec<Vec<usize>>, Vec<Vec<usize>>) {
+    let mut delayers = vec![Vec::new(); members.len()];
+    let mut forbidders = vec![Vec::new(); members.len()];
+    for (j, &t) in members.iter().enumerate() {
+        let ts = &c.services[t];
+        for (rule, out) in [(&ts.delays, &mut delayers), (&ts.forbids, &mut forbidders)] {
+            for r in rule.iter().filter(|r| r.id != t) {
+                let Some(list) = index
+                    .get(r.id.0 as usize)
+                    .copied()
+                    .flatten()
+                    .and_then(|i| out.get_mut(i))
+                else {
+                    continue;
+                };
+                if list.last() != Some(&j) {
+                    list.push(j);
+                }
+            }
+        }
+    }
+    (delayers, forbidders)
+}
+
+fn member(
+    c: &Component,
+    b: &Behaviour,
+    index: &[Option<usize>],
+    s: ServiceId,
+    (delayers, forbidders): (Vec<usize>, Vec<usize>),
+    input: bool,
+) -> Member {
+    let svc = &c.services[s];
+    let idx = |t: ServiceId| index.get(t.0 as usize).copied().flatten();
+    let mut stops: Vec<usize> = Vec::new();
+    for t in svc.stops.iter().filter_map(|r| idx(r.id)) {
+        if !stops.contains(&t) {
+            stops.push(t);
+        }
+    }
+    let control = svc
+        .control
+        .map(|k| c.codels[k].structures())
+        .unwrap_or_default();
+    let positions = b.machine(s).positions.len();
+    let pos_bits = usize::BITS - positions.saturating_sub(1).leading_zeros();
+    let can_pend = !delayers.is_empty() || !stops.is_empty();
+    if input {
+        // Only its pending slot is stored: one bit of presence, one of
+        // "may never end".
+        return Member {
+            service: s,
+            self_stop: false,
+            stops: Vec::new(),
+            delayers: Vec::new(),
+            forbidders: Vec::new(),
+            control: Vec::new(),
+            pos_bits: 0,
+            can_pend: true,
+            watchdog: false,
+            input,
+        };
+    }
+    Member {
+        service: s,
+        self_stop: svc.stops.iter().any(|r| r.id == s),
+        stops,
+        delayers,
+        forbidders,
+        control,
+        pos_bits,
+        can_pend,
+        watchdog: svc.max_time.is_some(),
+        input,
+    }
+}
+
+/// Words per encoded configuration: fields never straddle words, so count
+/// the way [`BitWriter`] fills them.
+fn width(members: &[Member]) -> usize {
+    let mut fields = vec![1u32];
+    for m in members {
+        fields.push(m.pos_bits);
+        if m.can_pend {
+            fields.push(1);
+            fields.push(stop_bits(m));
+        }
+        fields.push(u32::from(m.watchdog));
+    }
+    let (mut words, mut used) = (0, 64);
+    for bits in fields.into_iter().filter(|&b| b > 0) {
+        if used + bits > 64 {
+            words += 1;
+            used = 0;
+        }
+        used += bits;
+    }
+    words.max(1)
+}
+
+/// Packs values into 64-bit words.
+struct BitWriter<'w> {
+    out: &'w mut Vec<u64>,
+    used: u32,
+}
+
+impl BitWriter<'_> {
+    fn put(&mut self, value: u64, bits: u32) {
+        if bits == 0 {
+            return;
+        }
+        if self.used == 0 || self.used + bits > 64 {
+            self.out.push(0);
+            self.used = 0;
+        }
+        if let Some(last) = self.out.last_mut() {
+            *last |= value << self.used;
+        }
+        self.used += bits;
+    }
+}
+
+struct BitReader<'w> {
+    words: &'w [u64],
+    word: usize,
+    used: u32,
+    started: bool,
+}
+
+impl BitReader<'_> {
+    fn get(&mut self, bits: u32) -> u64 {
+        if bits == 0 {
+            return 0;
+        }
+        if !self.started || self.used + bits > 64 {
+            if self.started {
+                self.word += 1;
+            }
+            self.started = true;
+            self.used = 0;
+        }
+        let w = self.words.get(self.word).copied().unwrap_or(0);
+        let mask = if bits == 64 {
+            u64::MAX
+        } else {
+            (1 << bits) - 1
+        };
+        let v = (w >> self.used) & mask;
+        self.used += bits;
+        v
+    }
+}
+
+/// Bits of a member's wait mask (at most 64 `stops` targets are tracked;
+/// the analysis refuses larger ones as incomplete).
+fn stop_bits(m: &Member) -> u32 {
+    if m.input {
+        return 1;
+    }
+    u32::try_from(m.stops.len()).unwrap_or(64).min(64)
+}
+
+impl System<'_> {
+    /// Whether some member stops more than 64 services (not representable).
+    pub fn too_many_stops(&self) -> bool {
+        self.members.iter().any(|m| m.stops.len() > 64)
+    }
+}

@@ -1,0 +1,11 @@
+//! The model-checking engines of genom-check, on the resolved component
+//! model only: the untimed explorer and its verdicts ([`engine`]), the timed
+//! engine ([`timed`]) over clock zones ([`zones`]), and the replay of traces
+//! against the semantics ([`replay`]).
+
+pub mod engine;
+pub mod replay;
+#[cfg(test)]
+mod testing;
+pub mod timed;
+pub mod zones;
