@@ -11,6 +11,9 @@ Examples:
   genom-check specs/*.gen --deny warnings     fail CI on warnings too
   genom-check --format json specs/pilot.gen   machine-readable diagnostics
   genom-check explain deadlock                what a diagnostic code means
+  genom-check --static-only -I include --wcet comp.wcet comp.gen
+                                              a GenoM3 component, its interfaces
+                                              under include/, WCETs from a side file
 
 Exit status: 0 no error, 1 errors (or warnings with --deny warnings),
 2 usage or I/O problems.";
@@ -66,6 +69,10 @@ pub struct CheckArgs {
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
 
+    /// How the files are read.
+    #[command(flatten)]
+    pub input: InputArgs,
+
     /// Stop exploring after this many states (then `incomplete`).
     #[arg(long, value_name = "N", default_value_t = 10_000_000)]
     pub max_states: usize,
@@ -87,6 +94,48 @@ pub struct CheckArgs {
     /// engine (same verdicts; slower; traces may differ).
     #[arg(long)]
     pub no_reduction: bool,
+}
+
+/// How files are read: their dialect and, for GenoM3, where their
+/// includes and WCETs are.
+#[derive(Debug, Clone, Args)]
+pub struct InputArgs {
+    /// The language of the files; default: recognised by their syntax.
+    #[arg(long, value_enum, value_name = "DIALECT")]
+    pub dialect: Option<DialectArg>,
+
+    /// A folder searched for GenoM3 `#include` files, after the including
+    /// file's folder and before `GENOM_INCLUDE_PATH` (repeatable, in order).
+    #[arg(short = 'I', long = "include-dir", value_name = "DIR")]
+    pub include_dirs: Vec<PathBuf>,
+
+    /// A GenoM3 WCET file: one `OWNER.STATE DURATION` per line, e.g.
+    /// `move.start 400us` (see docs/genom3.md).
+    #[arg(long, value_name = "FILE")]
+    pub wcet: Option<PathBuf>,
+}
+
+impl InputArgs {
+    /// The library's view of these arguments.
+    pub fn inputs(&self) -> genom_check::Inputs {
+        genom_check::Inputs {
+            dialect: self.dialect.map(|d| match d {
+                DialectArg::Gen => genom_model::Dialect::Gen,
+                DialectArg::Genom3 => genom_model::Dialect::Genom3,
+            }),
+            include_dirs: self.include_dirs.clone(),
+            wcet_file: self.wcet.clone(),
+        }
+    }
+}
+
+/// The languages `--dialect` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DialectArg {
+    /// The dialect of LANGUAGE.md.
+    Gen,
+    /// GenoM3 (LAAS-CNRS).
+    Genom3,
 }
 
 /// Parses `30s`, `500ms`, `2min`, `1.5s` with the language's duration units.
@@ -127,6 +176,10 @@ pub struct ExportArgs {
     /// The component description file.
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
+
+    /// How the file is read.
+    #[command(flatten)]
+    pub input: InputArgs,
 
     /// Write to this file (and companion files next to it) instead of stdout.
     #[arg(short, long, value_name = "PATH")]
@@ -174,6 +227,10 @@ pub struct BudgetArgs {
     /// The component description file (`.gen`).
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
+
+    /// How the file is read.
+    #[command(flatten)]
+    pub input: InputArgs,
 
     /// Only the budget of this codel, as `SERVICE::CODEL` (`SERVICE` alone: its
     /// start codel); repeatable. Default: every codel.

@@ -4,6 +4,10 @@
 //! binary does.
 
 pub mod explain;
+mod genom3;
 mod pipeline;
 
-pub use pipeline::{CheckOptions, CheckResult, check_file, check_source};
+pub use pipeline::{
+    CheckOptions, CheckResult, InputError, Inputs, check_file, check_path, check_source, detect,
+    display,
+};

@@ -1,22 +1,23 @@
 //! Runs the stages of a check in order (text → AST → model → verdicts): the
-//! front-end lowers the text into the model, the checker checks it.
+//! front-end of the file's dialect lowers the text into the model, the
+//! checker checks it.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use genom_model::component::Component;
-use genom_model::{Diagnostic, SourceMap, Statistics};
-use genom_parser::{Ast, LoadError, Loader};
+use genom_model::{Diagnostic, Dialect, Pragma, SourceMap, Statistics, sort_diagnostics};
+use genom_parser::{FsLoader, LoadError, Loader};
 
 pub use genom_checker::CheckOptions;
 
 /// Everything a check found about one file.
 #[derive(Debug, Clone)]
 pub struct CheckResult {
+    /// The language the file was read as.
+    pub dialect: Dialect,
     /// The checked file and its includes.
     pub sources: SourceMap,
-    /// The syntax trees.
-    pub ast: Ast,
     /// All diagnostics, sorted by file and position.
     pub diagnostics: Vec<Diagnostic>,
     /// The resolved component, when the file parsed completely and has a
@@ -24,9 +25,77 @@ pub struct CheckResult {
     pub component: Option<Component>,
     /// Exploration figures, when the engines ran.
     pub statistics: Option<Statistics>,
+    /// The `#pragma` lines of a GenoM3 file, in preprocessor order.
+    pub pragmas: Vec<Pragma>,
 }
 
-/// Checks the file at `path`. Fails only when that file cannot be read.
+/// How to read a file: its dialect and, for GenoM3, where its includes and
+/// WCETs are.
+#[derive(Debug, Clone, Default)]
+pub struct Inputs {
+    /// The dialect; `None` recognises it by its syntax.
+    pub dialect: Option<Dialect>,
+    /// GenoM3 include folders (`-I`), searched in order after the including
+    /// file's folder and before `GENOM_INCLUDE_PATH`.
+    pub include_dirs: Vec<PathBuf>,
+    /// A GenoM3 WCET side file (`--wcet`).
+    pub wcet_file: Option<PathBuf>,
+}
+
+/// Why a file was not checked at all.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum InputError {
+    /// The file (or the WCET file) cannot be read.
+    #[error("cannot read `{path}`: {error}")]
+    Read {
+        /// The path as given.
+        path: String,
+        /// Why.
+        error: LoadError,
+    },
+    /// `--wcet` on a file that is not GenoM3.
+    #[error(
+        "`--wcet` gives the WCETs of a GenoM3 component, and `{path}` was read as LANGUAGE.md, whose codels carry their own `wcet:`"
+    )]
+    WcetNeedsGenom3 {
+        /// The checked file.
+        path: String,
+    },
+}
+
+/// Checks the file at `path` in the dialect `inputs` says or its syntax
+/// shows. Fails only when a file cannot be read at all.
+pub fn check_path(
+    path: &Path,
+    inputs: &Inputs,
+    options: &CheckOptions,
+) -> Result<CheckResult, InputError> {
+    let text = FsLoader.load(path).map_err(|error| InputError::Read {
+        path: display(path),
+        error,
+    })?;
+    let dialect = inputs.dialect.unwrap_or_else(|| detect(&text));
+    match dialect {
+        Dialect::Gen if inputs.wcet_file.is_some() => Err(InputError::WcetNeedsGenom3 {
+            path: display(path),
+        }),
+        Dialect::Gen => Ok(check_source(path, text, &FsLoader, options)),
+        Dialect::Genom3 => crate::genom3::check(path, text, inputs, options),
+    }
+}
+
+/// The dialect a text is written in, by its syntax: GenoM3 when it has a
+/// GenoM3-only construct, else LANGUAGE.md.
+pub fn detect(text: &str) -> Dialect {
+    if genom_genom3::looks_like_genom3(text) {
+        Dialect::Genom3
+    } else {
+        Dialect::Gen
+    }
+}
+
+/// Checks the LANGUAGE.md file at `path`. Fails only when that file cannot
+/// be read.
 pub fn check_file(
     path: &Path,
     loader: &dyn Loader,
@@ -36,7 +105,8 @@ pub fn check_file(
     Ok(check_source(path, text, loader, options))
 }
 
-/// Checks already-loaded text; includes are read through `loader`.
+/// Checks already-loaded LANGUAGE.md text; includes are read through
+/// `loader`.
 pub fn check_source(
     path: &Path,
     text: String,
@@ -53,10 +123,36 @@ pub fn check_source(
         started,
     );
     CheckResult {
+        dialect: Dialect::Gen,
         sources: front.sources,
-        ast: front.ast,
         diagnostics: verdicts.diagnostics,
         component: verdicts.component,
         statistics: verdicts.statistics,
+        pragmas: Vec::new(),
     }
+}
+
+impl CheckResult {
+    /// The report of this result for rendering, under the path as given.
+    pub fn report<'a>(&'a self, path: &'a str) -> genom_model::render::FileReport<'a> {
+        genom_model::render::FileReport {
+            path,
+            sources: &self.sources,
+            diagnostics: &self.diagnostics,
+            statistics: self.statistics.as_ref(),
+            dialect: self.dialect,
+            pragmas: &self.pragmas,
+        }
+    }
+
+    /// Adds diagnostics, keeping them sorted.
+    pub(crate) fn extend(&mut self, more: impl IntoIterator<Item = Diagnostic>) {
+        self.diagnostics.extend(more);
+        sort_diagnostics(&mut self.diagnostics);
+    }
+}
+
+/// A path as shown to people (forward slashes).
+pub fn display(path: &Path) -> String {
+    path.to_string_lossy().replace('\\', "/")
 }

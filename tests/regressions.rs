@@ -65,6 +65,8 @@ fn regressions_check_without_panic_and_with_spans_in_files() {
             sources: &result.sources,
             diagnostics: &result.diagnostics,
             statistics: result.statistics.as_ref(),
+            dialect: genom_model::Dialect::Gen,
+            pragmas: &[],
         };
         let text = human::render_diagnostics(&report, human::HumanOptions::default());
         let doc = json::render(&[report]);

@@ -97,6 +97,8 @@ pub fn render(src: &str) -> String {
         sources: &result.sources,
         diagnostics: &result.diagnostics,
         statistics: None,
+        dialect: genom_model::Dialect::Gen,
+        pragmas: &[],
     };
     let options = human::HumanOptions {
         color: false,

@@ -75,6 +75,11 @@ impl CheckOptions {
         self
     }
 
+    /// Whether the behavioural engines run (not `--static-only`).
+    pub fn runs_behaviour(&self) -> bool {
+        self.behaviour
+    }
+
     fn limits(&self, started: Instant) -> Limits {
         Limits {
             max_states: self.max_states,

@@ -56,6 +56,8 @@ pub fn render(
         sources,
         diagnostics,
         statistics,
+        dialect: genom_model::Dialect::Gen,
+        pragmas: &[],
     };
     let text = human::render_diagnostics(&report, human::HumanOptions::default());
     let summary = human::render_summary(PATH, report.counts());

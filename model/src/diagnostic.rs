@@ -148,7 +148,7 @@ codes! {
     /// Timing checks incomplete because codels lack WCETs.
     MissingWcet = "missing-wcet", Advice, "timing checks incomplete because codels lack `max-time`";
     /// A limit stopped verification.
-    Incomplete = "incomplete", Error, "a limit stopped verification before it finished";
+    Incomplete = "incomplete", Error, "verification did not finish: a limit stopped it, or the engines do not model the component's semantics";
     /// A weaker credential controls a stronger one.
     PrivilegeEscalation = "privilege-escalation", Warning, "a service requestable with a weaker credential controls one that needs a stronger credential";
     /// A preprocessor directive the GenoM3 front end does not interpret.

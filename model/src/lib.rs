@@ -6,7 +6,9 @@
 pub mod behaviour;
 pub mod component;
 pub mod diagnostic;
+pub mod dialect;
 pub mod kinds;
+pub mod loader;
 pub mod petri;
 pub mod render;
 pub mod span;
@@ -15,6 +17,7 @@ pub mod timed_automata;
 pub mod trace;
 
 pub use diagnostic::{Code, Counts, Diagnostic, Label, Severity, sort_diagnostics};
+pub use dialect::{Dialect, Pragma};
 pub use span::{FileId, Located, SourceFile, SourceMap, Span};
 pub use stats::Statistics;
 pub use trace::{Event, Trace, TraceStep};

@@ -15,7 +15,7 @@ pub mod checks;
 pub mod diagnostics;
 mod grammar;
 pub mod literal;
-pub mod loader;
+pub use genom_model::loader;
 pub mod resolve;
 mod syntax;
 

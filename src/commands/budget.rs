@@ -38,8 +38,7 @@ mod with_smt {
     use genom_model::component::{CodelId, Component};
     use genom_model::render::human::format_ns;
     use genom_model::render::{FileReport, human, json};
-    use genom_model::{Code, Severity};
-    use genom_parser::FsLoader;
+    use genom_model::{Code, Dialect, Severity};
     use serde_json::{Value, json};
 
     use super::super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -49,15 +48,22 @@ mod with_smt {
     /// Computes and prints the budgets; returns the exit status.
     pub fn run(args: &BudgetArgs, output: &OutputArgs) -> u8 {
         let started = Instant::now();
-        let shown = args.file.to_string_lossy().replace('\\', "/");
+        let shown = genom_check::display(&args.file);
         let options = CheckOptions::new().behaviour(false);
-        let result = match genom_check::check_file(&args.file, &FsLoader, &options) {
+        let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
             Ok(r) => r,
             Err(e) => {
-                eprintln!("error: cannot read `{shown}`: {e}");
+                eprintln!("error: {e}");
                 return EXIT_USAGE;
             }
         };
+        if result.dialect == Dialect::Genom3 {
+            print_report(&shown, &result, output);
+            eprintln!(
+                "error: `{shown}` is a GenoM3 component: budgets explore its timed behaviour, and the engines do not model GenoM3's execution semantics yet"
+            );
+            return EXIT_ERRORS;
+        }
         let blocking = result
             .diagnostics
             .iter()
@@ -135,10 +141,8 @@ mod with_smt {
 
     fn print_report(shown: &str, result: &genom_check::CheckResult, output: &OutputArgs) {
         let report = FileReport {
-            path: shown,
-            sources: &result.sources,
-            diagnostics: &result.diagnostics,
             statistics: None,
+            ..result.report(shown)
         };
         match output.format {
             Format::Json => terminal::emit(&(json::render(&[report]) + "\n")),

@@ -1,12 +1,9 @@
 //! `genom-check check FILE...`: checks each file and prints the reports
 //! (human or JSON), then returns the exit status.
 
-use std::path::Path;
-
-use genom_check::{CheckOptions, CheckResult};
+use genom_check::{CheckOptions, CheckResult, display};
 use genom_model::render::{FileReport, human, json};
-use genom_model::{Counts, Severity};
-use genom_parser::FsLoader;
+use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{CheckArgs, Deny, Format, OutputArgs};
@@ -22,34 +19,22 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .reduction(!args.no_reduction);
     let mut io_failed = false;
     let mut results: Vec<(String, CheckResult)> = Vec::new();
+    let inputs = args.input.inputs();
     for path in &args.files {
-        let shown = display(path);
-        match genom_check::check_file(path, &FsLoader, &options) {
-            Ok(result) => results.push((shown, result)),
+        match genom_check::check_path(path, &inputs, &options) {
+            Ok(result) => results.push((display(path), result)),
             Err(e) => {
-                eprintln!("error: cannot read `{shown}`: {e}");
+                eprintln!("error: {e}");
                 io_failed = true;
             }
         }
     }
-    let reports: Vec<FileReport<'_>> = results
-        .iter()
-        .map(|(path, r)| FileReport {
-            path,
-            sources: &r.sources,
-            diagnostics: &r.diagnostics,
-            statistics: r.statistics.as_ref(),
-        })
-        .collect();
+    let reports: Vec<FileReport<'_>> = results.iter().map(|(path, r)| r.report(path)).collect();
     match output.format {
         Format::Human => print_human(&reports, output),
         Format::Json => terminal::emit(&(json::render(&reports) + "\n")),
     }
     exit_status(&reports, output.deny, io_failed)
-}
-
-fn display(path: &Path) -> String {
-    path.to_string_lossy().replace('\\', "/")
 }
 
 fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
@@ -72,7 +57,13 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
 
 /// The summary line of one file: counts, then the exploration figures.
 pub(super) fn summary_line(report: &FileReport<'_>) -> String {
-    let mut line = human::render_summary(report.path, report.counts());
+    let mut line = match report.dialect {
+        Dialect::Gen => human::render_summary(report.path, report.counts()),
+        Dialect::Genom3 => {
+            let path = format!("{} ({})", report.path, Dialect::Genom3.title());
+            human::render_summary(&path, report.counts())
+        }
+    };
     if let Some(s) = report.statistics {
         line.push_str(&format!(
             " ({} states, {} transitions, {:.1} ms{})",

@@ -8,8 +8,7 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{FileReport, human, json};
-use genom_parser::FsLoader;
+use genom_model::render::{human, json};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -17,14 +16,14 @@ use crate::terminal;
 
 /// Runs the export.
 pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
-    let shown = args.file.to_string_lossy().replace('\\', "/");
+    let shown = genom_check::display(&args.file);
     let options = CheckOptions::new()
         .max_states(args.max_states)
         .timeout(args.timeout);
-    let result = match genom_check::check_file(&args.file, &FsLoader, &options) {
+    let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: cannot read `{shown}`: {e}");
+            eprintln!("error: {e}");
             return EXIT_USAGE;
         }
     };
@@ -144,12 +143,7 @@ fn reasons(v: &Verification, denied: bool) -> String {
 
 /// The check's report, as `check` prints it (human or JSON).
 fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bool) -> String {
-    let report = FileReport {
-        path: shown,
-        sources: &result.sources,
-        diagnostics: &result.diagnostics,
-        statistics: result.statistics.as_ref(),
-    };
+    let report = result.report(shown);
     if output.format == ReportFormat::Json {
         return json::render(std::slice::from_ref(&report)) + "\n";
     }

@@ -38,6 +38,8 @@ pub fn render(path: &Path, result: &CheckResult) -> String {
         sources: &result.sources,
         diagnostics: &result.diagnostics,
         statistics: None,
+        dialect: genom_model::Dialect::Gen,
+        pragmas: &[],
     };
     let options = human::HumanOptions {
         color: false,

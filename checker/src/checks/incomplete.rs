@@ -17,7 +17,13 @@ Why it matters: a verifier must never say "verified" when it did not finish.
 Violations found before the limit are real (they come with traces), but the
 absence of a violation is not proven, so the exit status is 1.
 
-Raise the limit, or simplify the component: services that share no `stops`,
+A GenoM3 component checked without `--static-only` also gets it: the engines
+do not model GenoM3's execution semantics yet (transitions within a period,
+`pause::`, permanent task codels...), so its deadlock freedom, reachability
+and timing are not verified; its static checks did run. Pass `--static-only`
+to ask for the static checks alone.
+
+For a limit: raise it, or simplify the component: services that share no `stops`,
 `delays` or `forbids` are verified separately, so cutting such links between
 groups of services reduces the state space."#;
 
@@ -35,6 +41,22 @@ pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
         "not fully verified",
     )
     .with_help(format!("left unproven: {what}; raise the limit to finish"))
+}
+
+/// Verification of a component whose execution semantics (those of
+/// `dialect`) the engines do not model: only the static checks ran.
+pub fn semantics_not_modelled(c: &Component, dialect: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::Incomplete,
+        format!(
+            "verification is incomplete: the engines do not model {dialect}'s execution semantics yet"
+        ),
+        c.name.span,
+        "behaviour not verified",
+    )
+    .with_help(
+        "the static checks ran; deadlock freedom, reachability and timing are left unproven. Pass `--static-only` to run only the static checks",
+    )
 }
 
 /// The `incomplete` diagnostic, if exploration stopped early.

@@ -68,10 +68,16 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
             c.services[k.service].name.name, k.name.name
         )
     };
+    // GenoM3 has no WCET syntax: its WCETs come from a side file.
+    let (written, remedy) = if c.genom3.is_some() {
+        ("", "give every codel a WCET in a `--wcet` file")
+    } else {
+        (" (`max-time`)", "give every codel a `max-time`")
+    };
     let mut d = Diagnostic::new(
         Code::MissingWcet,
         format!(
-            "{} codel{} without WCET (`max-time`) are taken as running in no time",
+            "{} codel{} without WCET{written} are taken as running in no time",
             missing.len(),
             if missing.len() == 1 { "" } else { "s" }
         ),
@@ -81,8 +87,5 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     for k in missing.iter().skip(1).take(9) {
         d = d.with_label(k.name.span, label(k));
     }
-    vec![d.with_help(format!(
-        "left unproven: {}; give every codel a `max-time`",
-        unproven.join("; ")
-    ))]
+    vec![d.with_help(format!("left unproven: {}; {remedy}", unproven.join("; ")))]
 }

@@ -29,10 +29,26 @@ pub struct JsonDocument {
 pub struct JsonFile {
     /// The path as given.
     pub path: String,
+    /// The language it was read as: `gen` (LANGUAGE.md) or `genom3`.
+    pub dialect: &'static str,
     /// Its diagnostics, sorted.
     pub diagnostics: Vec<JsonDiagnostic>,
     /// Exploration figures, or null when the engines did not run.
     pub statistics: Option<Statistics>,
+    /// Its `#pragma` lines (GenoM3), in preprocessor order.
+    pub pragmas: Vec<JsonPragma>,
+}
+
+/// A `#pragma` line.
+#[derive(Debug, Serialize)]
+pub struct JsonPragma {
+    /// `require`, `provides`, `masquerade` or another word.
+    pub kind: String,
+    /// The rest of the line.
+    pub args: String,
+    /// Where.
+    #[serde(flatten)]
+    pub location: JsonLocation,
 }
 
 /// Totals.
@@ -151,6 +167,16 @@ pub fn document(reports: &[FileReport<'_>]) -> JsonDocument {
             }
             JsonFile {
                 path: r.path.to_owned(),
+                dialect: r.dialect.as_str(),
+                pragmas: r
+                    .pragmas
+                    .iter()
+                    .map(|p| JsonPragma {
+                        kind: p.kind.clone(),
+                        args: p.args.clone(),
+                        location: location(r.sources, p.span),
+                    })
+                    .collect(),
                 diagnostics: r
                     .diagnostics
                     .iter()
@@ -264,6 +290,8 @@ mod tests {
             sources: &map,
             diagnostics: &diags,
             statistics: None,
+            dialect: crate::dialect::Dialect::Gen,
+            pragmas: &[],
         };
         let v: serde_json::Value = serde_json::from_str(&render(&[report])).unwrap();
         assert_eq!(v["version"], 1);

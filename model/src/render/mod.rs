@@ -8,6 +8,7 @@ pub mod human;
 pub mod json;
 
 use crate::diagnostic::{Counts, Diagnostic};
+use crate::dialect::{Dialect, Pragma};
 use crate::span::SourceMap;
 use crate::stats::Statistics;
 
@@ -22,6 +23,10 @@ pub struct FileReport<'a> {
     pub diagnostics: &'a [Diagnostic],
     /// Exploration figures, when the behavioural engines ran.
     pub statistics: Option<&'a Statistics>,
+    /// The language the file was read as.
+    pub dialect: Dialect,
+    /// Its `#pragma` lines (GenoM3), in preprocessor order.
+    pub pragmas: &'a [Pragma],
 }
 
 impl FileReport<'_> {

@@ -119,16 +119,24 @@ impl Genom3Return {
     }
 }
 
+impl Genom3Options {
+    /// The folders searched for includes after the including file's: every
+    /// `-I` folder in order, then those of `GENOM_INCLUDE_PATH` (when used).
+    pub fn search_path(&self) -> Vec<PathBuf> {
+        let mut search = self.include_dirs.clone();
+        if self.use_env_include_path {
+            if let Some(var) = std::env::var_os("GENOM_INCLUDE_PATH") {
+                search.extend(std::env::split_paths(&var).filter(|p| !p.as_os_str().is_empty()));
+            }
+        }
+        search
+    }
+}
+
 /// Loads a GenoM3 file from the file system.
 pub fn load(path: &Path, options: &Genom3Options) -> Result<Genom3Return, LoadError> {
     let text = FsLoader.load(path)?;
-    let mut search = options.include_dirs.clone();
-    if options.use_env_include_path {
-        if let Some(var) = std::env::var_os("GENOM_INCLUDE_PATH") {
-            search.extend(std::env::split_paths(&var).filter(|p| !p.as_os_str().is_empty()));
-        }
-    }
-    let mut out = load_with(path, text, &search, &FsLoader);
+    let mut out = load_with(path, text, &options.search_path(), &FsLoader);
     if let Some(wcet_path) = &options.wcet_file {
         let text = FsLoader.load(wcet_path)?;
         add_wcet_file(&mut out, wcet_path, text);

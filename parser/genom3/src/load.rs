@@ -19,58 +19,7 @@ use crate::{diagnostics, syntax};
 /// Syntax errors reported per file before giving up on it.
 pub const MAX_SYNTAX_ERRORS: usize = 50;
 
-/// Why a file could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum LoadError {
-    /// The file does not exist.
-    #[error("no such file")]
-    NotFound,
-    /// Any other I/O problem.
-    #[error("{0}")]
-    Io(String),
-}
-
-/// Reads files: the file system, or memory in tests.
-pub trait Loader {
-    /// The text of `path`.
-    fn load(&self, path: &Path) -> Result<String, LoadError>;
-    /// Whether `path` names a readable file.
-    fn exists(&self, path: &Path) -> bool;
-}
-
-/// The file system.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct FsLoader;
-
-impl Loader for FsLoader {
-    fn load(&self, path: &Path) -> Result<String, LoadError> {
-        std::fs::read_to_string(path).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => LoadError::NotFound,
-            _ => LoadError::Io(e.to_string()),
-        })
-    }
-
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
-    }
-}
-
-/// Files in memory, by path (for tests).
-#[derive(Debug, Clone, Default)]
-pub struct MemoryLoader {
-    /// The files.
-    pub files: BTreeMap<PathBuf, String>,
-}
-
-impl Loader for MemoryLoader {
-    fn load(&self, path: &Path) -> Result<String, LoadError> {
-        self.files.get(path).cloned().ok_or(LoadError::NotFound)
-    }
-
-    fn exists(&self, path: &Path) -> bool {
-        self.files.contains_key(path)
-    }
-}
+pub use genom_model::loader::{FsLoader, LoadError, Loader, MemoryLoader};
 
 /// What loading produces, before lowering.
 #[derive(Debug, Default)]

@@ -17,16 +17,7 @@ use genom_model::{Diagnostic, Span};
 
 use crate::diagnostics;
 
-/// A `#pragma` line.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Pragma {
-    /// `require`, `provides`, `masquerade` or another word.
-    pub kind: String,
-    /// The rest of the line, trimmed.
-    pub args: String,
-    /// The directive line.
-    pub span: Span,
-}
+pub use genom_model::Pragma;
 
 /// An `#include` line.
 #[derive(Debug, Clone, PartialEq, Eq)]

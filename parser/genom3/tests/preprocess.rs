@@ -9,11 +9,9 @@ use genom_genom3::{MemoryLoader, load_with, looks_like_genom3};
 use genom_model::{Code, FileId};
 
 fn loader(files: &[(&str, &str)]) -> MemoryLoader {
-    let mut l = MemoryLoader::default();
-    for (p, t) in files {
-        l.files.insert(PathBuf::from(p), (*t).to_owned());
-    }
-    l
+    files
+        .iter()
+        .fold(MemoryLoader::new(), |l, (p, t)| l.with(p, *t))
 }
 
 #[test]

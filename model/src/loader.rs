@@ -1,5 +1,6 @@
-//! Reading source files: the [`Loader`] trait (the file system, or memory
-//! for tests and fuzzing) and lexical path handling for includes.
+//! Reading source files, for every front-end: the [`Loader`] trait (the file
+//! system, or memory for tests and fuzzing) and lexical path handling for
+//! includes.
 
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -36,6 +37,11 @@ pub trait Loader {
     fn identity(&self, path: &Path) -> PathBuf {
         normalize(path)
     }
+
+    /// Whether `path` names a readable file (for include searches).
+    fn exists(&self, path: &Path) -> bool {
+        self.load(path).is_ok()
+    }
 }
 
 /// Reads from the file system.
@@ -57,6 +63,10 @@ impl Loader for FsLoader {
 
     fn identity(&self, path: &Path) -> PathBuf {
         std::fs::canonicalize(path).unwrap_or_else(|_| normalize(path))
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        path.is_file()
     }
 }
 
@@ -100,6 +110,10 @@ impl Loader for MemoryLoader {
         } else {
             LoadError::NotFound
         })
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.files.contains_key(&normalize(path))
     }
 }
 

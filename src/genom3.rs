@@ -1,0 +1,69 @@
+//! The check of a GenoM3 file: the GenoM3 front-end reads it with its
+//! includes and WCET side file and lowers it into the model, then the
+//! checker runs its static checks. The engines do not model GenoM3's
+//! execution semantics yet, so its behaviour is not explored: a check that
+//! asked for it (no `--static-only`) reports `incomplete` rather than a
+//! clean verdict.
+
+use std::path::Path;
+use std::time::Instant;
+
+use genom_checker::checks::incomplete;
+use genom_genom3::{FsLoader, Genom3Options, Loader};
+use genom_model::{Dialect, Severity};
+
+use crate::pipeline::{CheckOptions, CheckResult, InputError, Inputs, display};
+
+/// Checks GenoM3 text read from `path`. Fails only when the WCET file
+/// cannot be read.
+pub(crate) fn check(
+    path: &Path,
+    text: String,
+    inputs: &Inputs,
+    options: &CheckOptions,
+) -> Result<CheckResult, InputError> {
+    let started = Instant::now();
+    let search = Genom3Options {
+        include_dirs: inputs.include_dirs.clone(),
+        use_env_include_path: true,
+        wcet_file: None,
+    }
+    .search_path();
+    let mut front = genom_genom3::load_with(path, text, &search, &FsLoader);
+    if let Some(wcet) = &inputs.wcet_file {
+        let text = FsLoader.load(wcet).map_err(|error| InputError::Read {
+            path: display(wcet),
+            error,
+        })?;
+        genom_genom3::add_wcet_file(&mut front, wcet, text);
+    }
+    // A partial component (a file missing or unparsed) is not checked: its
+    // findings would be the cascade of what is missing.
+    let has_component = front.component.is_some();
+    let model = front.component.take().filter(|_| front.is_complete());
+    let static_only = options.clone().behaviour(false);
+    let verdicts = genom_checker::verify(
+        model,
+        has_component,
+        front.diagnostics,
+        &static_only,
+        started,
+    );
+    let mut result = CheckResult {
+        dialect: Dialect::Genom3,
+        sources: front.sources,
+        diagnostics: verdicts.diagnostics,
+        component: verdicts.component,
+        statistics: None,
+        pragmas: front.pragmas,
+    };
+    let clean = !result
+        .diagnostics
+        .iter()
+        .any(|d| d.severity == Severity::Error);
+    if let (true, true, Some(c)) = (options.runs_behaviour(), clean, &result.component) {
+        let unverified = incomplete::semantics_not_modelled(c, Dialect::Genom3.title());
+        result.extend([unverified]);
+    }
+    Ok(result)
+}
