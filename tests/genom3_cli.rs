@@ -1,0 +1,410 @@
+//! GenoM3 files through the command line: dialect detection and
+//! `--dialect`, include folders (`-I`, `GENOM_INCLUDE_PATH`), the WCET side
+//! file (`--wcet`), the dialect and pragmas in the reports, the honest
+//! `incomplete` when behaviour is asked for, the front-end's fixtures and
+//! the real components of the corpus.
+
+#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+const FIXTURES: &str = "parser/genom3/tests/fixtures";
+const STUBS: &str = "tests/fixtures/genom3/include";
+
+fn genom_check() -> Command {
+    let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
+    cmd.env_remove("NO_COLOR")
+        .env_remove("GENOM_INCLUDE_PATH")
+        .env("TERM", "xterm");
+    cmd
+}
+
+/// Runs with `--format json`; returns the exit status and the one file's
+/// entry.
+fn json(args: &[&str]) -> (i32, Value) {
+    let out = genom_check()
+        .args(["--format", "json"])
+        .args(args)
+        .output()
+        .unwrap();
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{e}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    (out.status.code().unwrap(), doc["files"][0].clone())
+}
+
+/// The codes of a JSON file entry's diagnostics with `severity`.
+fn codes(file: &Value, severity: &str) -> Vec<String> {
+    file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["severity"] == severity)
+        .map(|d| d["code"].as_str().unwrap().to_owned())
+        .collect()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const DEMO: &str = "parser/genom3/tests/fixtures/valid/demo.gen";
+const DEMO_WCET: &str = "parser/genom3/tests/fixtures/valid/demo.wcet";
+
+#[test]
+fn a_genom3_file_is_recognised_and_its_static_checks_run() {
+    let (status, file) = json(&["--static-only", "--wcet", DEMO_WCET, DEMO]);
+    assert_eq!(status, 0, "{file:#}");
+    assert_eq!(file["dialect"], "genom3");
+    assert!(codes(&file, "error").is_empty(), "{file:#}");
+    assert!(file["statistics"].is_null());
+    let out = genom_check()
+        .args([
+            "--static-only",
+            "--color",
+            "never",
+            "--wcet",
+            DEMO_WCET,
+            DEMO,
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains(&format!("{DEMO} (GenoM3): 0 errors, 0 warnings")),
+        "{stdout}"
+    );
+    // A LANGUAGE.md file says its dialect in JSON, and nothing in the summary.
+    let (status, file) = json(&["--static-only", "specs/pilot.gen"]);
+    assert_eq!((status, &file["dialect"]), (0, &Value::from("gen")));
+    assert_eq!(file["pragmas"], Value::Array(Vec::new()));
+}
+
+#[test]
+fn asking_for_behaviour_of_a_genom3_component_is_incomplete_not_verified() {
+    let (status, file) = json(&["--wcet", DEMO_WCET, DEMO]);
+    assert_eq!(status, 1);
+    assert_eq!(codes(&file, "error"), ["incomplete"]);
+    let d = &file["diagnostics"][0];
+    assert!(d["message"].as_str().unwrap().contains("GenoM3"), "{d:#}");
+    assert_eq!(
+        (d["line"].as_u64(), d["file"].as_str()),
+        (Some(7), Some(DEMO))
+    );
+    assert!(file["statistics"].is_null());
+    // An export needs a verified model: refused, and allowed only marked.
+    let refused = genom_check()
+        .args(["export", "uppaal", "--wcet", DEMO_WCET, DEMO])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&refused.stdout);
+    assert!(stdout.contains("incomplete"), "{stdout}");
+}
+
+#[test]
+fn the_dialect_can_be_forced() {
+    // GenoM3 read as LANGUAGE.md: a syntax error at its first GenoM3 line.
+    let (status, file) = json(&["--dialect", "gen", "--static-only", DEMO]);
+    assert_eq!(status, 1);
+    assert_eq!(file["dialect"], "gen");
+    let errors = codes(&file, "error");
+    assert!(
+        !errors.is_empty() && errors.iter().all(|c| c == "syntax"),
+        "{errors:?}"
+    );
+    // LANGUAGE.md read as GenoM3: rejected by the GenoM3 grammar.
+    let (status, file) = json(&["--dialect", "genom3", "--static-only", "specs/pilot.gen"]);
+    assert_eq!(status, 1);
+    assert_eq!(file["dialect"], "genom3");
+    assert!(
+        codes(&file, "error").contains(&"syntax".to_owned()),
+        "{file:#}"
+    );
+}
+
+const USES_POSE: &str = "#include \"pose.idl\"\n\
+    component c {\n  ids { pose::xyz p; };\n  task t { period 10 ms; };\n\
+    activity a() {\n    task t;\n    codel<start> go(in p) yield ether;\n  };\n};\n";
+
+#[test]
+fn includes_are_searched_in_each_include_dir_in_order_then_the_environment() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = write(dir.path(), "src/c.gen", USES_POSE);
+    write(
+        dir.path(),
+        "first/pose.idl",
+        "module pose { struct xyz { double x; }; };\n",
+    );
+    write(
+        dir.path(),
+        "second/pose.idl",
+        "module pose { struct xyz { double x } };\n",
+    );
+    write(
+        dir.path(),
+        "env/pose.idl",
+        "module pose { struct xyz { double x; }; };\n",
+    );
+    let main = main.to_str().unwrap();
+    let first = dir.path().join("first");
+    let second = dir.path().join("second");
+    let (first, second) = (first.to_str().unwrap(), second.to_str().unwrap());
+    // `first` before `second`: the good file is read.
+    let (status, file) = json(&["--static-only", "-I", first, "-I", second, main]);
+    assert_eq!(status, 0, "{file:#}");
+    // `second` first: its syntax error is reported, in that file.
+    let (status, file) = json(&["--static-only", "-I", second, "-I", first, main]);
+    assert_eq!(status, 1);
+    assert_eq!(codes(&file, "error"), ["syntax"]);
+    let at = file["diagnostics"][0]["file"].as_str().unwrap();
+    assert!(at.ends_with("second/pose.idl"), "{at}");
+    // Nowhere: `include-not-found` names the folders and suggests `-I`.
+    let (status, file) = json(&["--static-only", main]);
+    assert_eq!(status, 1);
+    assert_eq!(codes(&file, "error"), ["include-not-found"]);
+    let help = file["diagnostics"][0]["help"].as_str().unwrap_or_default();
+    assert!(help.contains("-I"), "{file:#}");
+    // GENOM_INCLUDE_PATH is searched after the `-I` folders.
+    let env = dir.path().join("env");
+    let out = genom_check()
+        .env("GENOM_INCLUDE_PATH", &env)
+        .args(["--static-only", "--format", "json", main])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let out = genom_check()
+        .env("GENOM_INCLUDE_PATH", &env)
+        .args(["--static-only", "-I", second, main])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "-I comes before the environment"
+    );
+}
+
+#[test]
+fn pragmas_are_in_the_json_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "#pragma require \"openrobots2-idl >= 2.0\"\n#pragma provides nothing\n{USES_POSE}"
+    );
+    let main = write(dir.path(), "c.gen", &text);
+    write(
+        dir.path(),
+        "pose.idl",
+        "module pose { struct xyz { double x; }; };\n",
+    );
+    let (status, file) = json(&["--static-only", main.to_str().unwrap()]);
+    assert_eq!(status, 0, "{file:#}");
+    let pragmas: Vec<(String, String, u64)> = file["pragmas"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p["kind"].as_str().unwrap().to_owned(),
+                p["args"].as_str().unwrap().to_owned(),
+                p["line"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        pragmas,
+        [
+            ("require".into(), "\"openrobots2-idl >= 2.0\"".into(), 1),
+            ("provides".into(), "nothing".into(), 2),
+        ]
+    );
+}
+
+#[test]
+fn wcet_file_problems_are_reported() {
+    // Unreadable: exit 2 naming the WCET file, not the component.
+    let out = genom_check()
+        .args(["--static-only", "--wcet", "no/such.wcet", DEMO])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(stderr.contains("cannot read `no/such.wcet`"), "{stderr}");
+    // On a LANGUAGE.md file: a usage error that says why.
+    let out = genom_check()
+        .args(["--wcet", DEMO_WCET, "specs/pilot.gen"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(stderr.contains("read as LANGUAGE.md"), "{stderr}");
+    // A bad entry: `bad-wcet` with a span in the WCET file.
+    let wcet = format!("{FIXTURES}/invalid/bad-wcet.unknown-state.wcet");
+    let gen_file = format!("{FIXTURES}/invalid/bad-wcet.unknown-state.gen");
+    let (status, file) = json(&["--static-only", "--wcet", &wcet, &gen_file]);
+    assert_eq!(status, 1);
+    let bad: Vec<&Value> = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["code"] == "bad-wcet")
+        .collect();
+    assert!(!bad.is_empty(), "{file:#}");
+    assert!(bad.iter().all(|d| d["file"] == wcet.as_str()), "{file:#}");
+}
+
+#[test]
+fn exceptions_thrown_from_c_code_are_not_unused_reports() {
+    // In GenoM3 a codel throws from its C code: `throw e;` with no yield
+    // to it is normal, not an `unused-report` (which LANGUAGE.md reports).
+    let dir = tempfile::tempdir().unwrap();
+    let text = "component c {\n  exception e_fail;\n  task t { period 10 ms; };\n\
+        activity a() {\n    task t;\n    codel<start> go() yield pause::start, ether;\n    throw e_fail;\n  };\n\
+        function f() { interrupt a; };\n};\n";
+    let main = write(dir.path(), "c.gen", text);
+    let (status, file) = json(&["--static-only", main.to_str().unwrap()]);
+    assert_eq!(status, 0, "{file:#}");
+    let all: Vec<String> = ["error", "warning", "advice"]
+        .iter()
+        .flat_map(|s| codes(&file, s))
+        .collect();
+    assert!(!all.contains(&"unused-report".to_owned()), "{file:#}");
+    assert!(!all.contains(&"missing-on-inter".to_owned()), "{file:#}");
+    assert!(all.contains(&"missing-wcet".to_owned()), "{file:#}");
+    let help = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "missing-wcet")
+        .and_then(|d| d["help"].as_str())
+        .unwrap();
+    assert!(help.contains("--wcet"), "{help}");
+}
+
+fn fixtures(kind: &str) -> Vec<PathBuf> {
+    let mut all: Vec<PathBuf> = std::fs::read_dir(format!("{FIXTURES}/{kind}"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "gen"))
+        .collect();
+    all.sort();
+    all
+}
+
+/// The WCET side file next to a fixture, as arguments.
+fn wcet_args(path: &Path) -> Vec<String> {
+    let wcet = path.with_extension("wcet");
+    if wcet.is_file() {
+        vec!["--wcet".into(), wcet.to_string_lossy().into_owned()]
+    } else {
+        Vec::new()
+    }
+}
+
+#[test]
+fn the_front_end_fixtures_give_their_codes_through_the_cli() {
+    let invalid = fixtures("invalid");
+    assert!(invalid.len() >= 20);
+    for path in invalid {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let code = name.split('.').next().unwrap();
+        let mut args = vec![
+            "--static-only".to_owned(),
+            "--dialect".into(),
+            "genom3".into(),
+        ];
+        args.extend(wcet_args(&path));
+        args.push(path.to_string_lossy().into_owned());
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (status, file) = json(&args);
+        let found: Vec<String> = ["error", "warning", "advice"]
+            .iter()
+            .flat_map(|s| codes(&file, s))
+            .collect();
+        assert!(found.iter().any(|c| c == code), "{name}: {found:?}");
+        let errors = !codes(&file, "error").is_empty();
+        assert_eq!(status, i32::from(errors), "{name}: {found:?}");
+        assert_eq!(file["dialect"], "genom3");
+    }
+    for path in fixtures("valid") {
+        let mut args = vec![
+            "--static-only".to_owned(),
+            "--dialect".into(),
+            "genom3".into(),
+        ];
+        args.extend(wcet_args(&path));
+        args.push(path.to_string_lossy().into_owned());
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (status, file) = json(&args);
+        assert_eq!(status, 0, "{}: {file:#}", path.display());
+        assert!(codes(&file, "warning").is_empty(), "{file:#}");
+    }
+}
+
+#[test]
+fn explain_knows_the_genom3_codes() {
+    let out = genom_check()
+        .args(["explain", "stop-no-ether"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("ether"));
+}
+
+/// The GenoM3 corpus, when it is on this machine (it is outside the
+/// repository: `../shared/corpus/genom3`).
+fn corpus() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/genom3");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", dir.display());
+        None
+    }
+}
+
+#[test]
+fn every_real_component_of_the_corpus_checks_without_error() {
+    let Some(dir) = corpus() else { return };
+    let mut components: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir() && !p.ends_with("genom3"))
+        .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "gen"))
+        .collect();
+    components.sort();
+    components.push(dir.join("genom3/regress/component.gen"));
+    assert!(components.len() >= 16, "{components:?}");
+    for path in &components {
+        let shown = path.to_string_lossy();
+        let (status, file) = json(&["--static-only", "-I", STUBS, &shown]);
+        assert_eq!(status, 0, "{shown}: {file:#}");
+        assert_eq!(file["dialect"], "genom3", "{shown}");
+        assert!(codes(&file, "warning").is_empty(), "{shown}: {file:#}");
+    }
+    // Interface-only files: loaded, no `missing-component`.
+    for file in [
+        "genom3/regress/datatypes.gen",
+        "genom3/templates/common/genom.gen",
+    ] {
+        let path = dir.join(file);
+        if !path.is_file() {
+            eprintln!("SKIPPED: {} is not in the corpus", path.display());
+            continue;
+        }
+        let shown = path.to_string_lossy();
+        let (status, report) = json(&["--dialect", "genom3", "--static-only", &shown]);
+        assert_eq!(status, 0, "{shown}: {report:#}");
+    }
+}
