@@ -4,7 +4,7 @@
 //! `incomplete` when behaviour is asked for, the front-end's fixtures and
 //! the real components of the corpus.
 
-#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::print_stderr)] // test support code; skips are said on stderr
 
 use std::path::{Path, PathBuf};
 
