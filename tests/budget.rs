@@ -286,4 +286,21 @@ mod with_smt {
         assert_eq!(out.status.code(), Some(2));
         assert!(String::from_utf8_lossy(&out.stderr).contains("no codel `Monitor::nope`"));
     }
+
+    #[test]
+    fn a_genom3_component_is_refused_until_its_semantics_are_modelled() {
+        let out = Command::cargo_bin("genom-check")
+            .expect("binary")
+            .args([
+                "budget",
+                "parser/genom3/tests/fixtures/valid/demo.gen",
+                "--wcet",
+                "parser/genom3/tests/fixtures/valid/demo.wcet",
+            ])
+            .output()
+            .expect("runs");
+        assert_eq!(out.status.code(), Some(1));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("GenoM3's execution semantics"), "{stderr}");
+    }
 }
