@@ -3,6 +3,7 @@
 //! includes.
 
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
 /// Why a file could not be read.
@@ -17,6 +18,9 @@ pub enum LoadError {
     /// The bytes are not UTF-8.
     #[error("it is not valid UTF-8 text")]
     NotUtf8,
+    /// A device, FIFO or socket: reading it may never end.
+    #[error("it is not a regular file (a device, FIFO or socket)")]
+    NotRegular,
     /// Over the 1 GiB limit of the offset space.
     #[error("it is too large ({0} bytes; the limit is 1 GiB)")]
     TooLarge(u64),
@@ -54,10 +58,22 @@ impl Loader for FsLoader {
         if meta.is_dir() {
             return Err(LoadError::IsDirectory);
         }
+        if !meta.is_file() {
+            return Err(LoadError::NotRegular);
+        }
         if meta.len() > MAX_FILE_BYTES {
             return Err(LoadError::TooLarge(meta.len()));
         }
-        let bytes = std::fs::read(path).map_err(|e| io_error(&e))?;
+        // Bounded even if the file grows while it is read.
+        let file = std::fs::File::open(path).map_err(|e| io_error(&e))?;
+        let mut bytes = Vec::new();
+        file.take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(|e| io_error(&e))?;
+        let read = u64::try_from(bytes.len()).unwrap_or(u64::MAX);
+        if read > MAX_FILE_BYTES {
+            return Err(LoadError::TooLarge(read));
+        }
         String::from_utf8(bytes).map_err(|_| LoadError::NotUtf8)
     }
 
