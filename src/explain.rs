@@ -62,6 +62,7 @@ fn body(code: Code) -> &'static str {
         Code::UnusedReport => unused_report::EXPLANATION,
         Code::MissingOnInter => missing_on_inter::EXPLANATION,
         Code::PrivilegeEscalation => privilege_escalation::EXPLANATION,
+        Code::RecursiveType => recursive_type::EXPLANATION,
         Code::Deadlock => deadlock::EXPLANATION,
         Code::Starvation => starvation::EXPLANATION,
         Code::DeadService => dead_service::EXPLANATION,

@@ -328,28 +328,8 @@ struct Mutant {
     line: usize,
 }
 
-/// `SplitMix64`: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A number in `0..n` (`n > 0`).
-    fn below(&mut self, n: usize) -> usize {
-        usize::try_from(self.next() % u64::try_from(n).expect("n fits u64"))
-            .expect("below n fits usize")
-    }
-
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> Option<&'a T> {
-        (!items.is_empty()).then(|| &items[self.below(items.len())])
-    }
-}
+/// The pseudo-random numbers of the mutations (the generator's splitmix64).
+type Rng = genom_generate::SplitMix;
 
 /// FNV-1a, a hash stable across runs and Rust versions.
 fn fnv1a(bytes: &[u8]) -> u64 {
@@ -474,11 +454,13 @@ fn mutants(src: &str, name: &str, per_kind: usize, seed: u64) -> Vec<Mutant> {
     for (k, kind) in (0u64..).zip(Kind::ALL) {
         for (j, index) in (0u64..).zip(0..per_kind) {
             for attempt in 0..ATTEMPTS {
-                let mut rng = Rng(fnv1a(name.as_bytes())
-                    ^ seed.wrapping_mul(0x2545_F491_4F6C_DD1D)
-                    ^ (k << 56)
-                    ^ (j << 40)
-                    ^ attempt);
+                let mut rng = Rng::new(
+                    fnv1a(name.as_bytes())
+                        ^ seed.wrapping_mul(0x2545_F491_4F6C_DD1D)
+                        ^ (k << 56)
+                        ^ (j << 40)
+                        ^ attempt,
+                );
                 let Some((text, what, line)) = mutate_once(src, &tokens, kind, &mut rng) else {
                     break;
                 };

@@ -45,7 +45,10 @@ fn a_device_given_as_the_file_is_refused_with_exit_2() {
     let (status, stdout, stderr) = run(&["/dev/zero"]);
     assert_eq!(status, 2);
     assert!(stdout.is_empty());
-    assert!(stderr.contains(&format!("cannot read `/dev/zero`: {NOT_REGULAR}")), "{stderr}");
+    assert!(
+        stderr.contains(&format!("cannot read `/dev/zero`: {NOT_REGULAR}")),
+        "{stderr}"
+    );
     let (status, _, stderr) = run(&["export", "config", "/dev/urandom"]);
     assert_eq!(status, 2, "{stderr}");
 }
@@ -77,7 +80,10 @@ fn including_a_device_or_a_fifo_is_an_include_error() {
         let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
         let d = &doc["files"][0]["diagnostics"][0];
         assert_eq!(d["code"], "include-not-found", "{stdout}");
-        assert!(d["message"].as_str().unwrap().ends_with(NOT_REGULAR), "{stdout}");
+        assert!(
+            d["message"].as_str().unwrap().ends_with(NOT_REGULAR),
+            "{stdout}"
+        );
     }
     // GenoM3: such a path is not a file to include; the search goes on and
     // ends with `include-not-found`.
@@ -87,4 +93,129 @@ fn including_a_device_or_a_fifo_is_an_include_error() {
     let (status, stdout, _) = run(&["--static-only", main.to_str().unwrap()]);
     assert_eq!(status, 1, "{stdout}");
     assert!(stdout.contains("include-not-found"), "{stdout}");
+}
+
+#[test]
+fn json_reports_carry_the_files_that_could_not_be_read() {
+    let (status, stdout, stderr) = run(&[
+        "--format",
+        "json",
+        "--static-only",
+        "no/such.gen",
+        "specs/pilot.gen",
+        "/dev/null",
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["files"][0]["path"], "specs/pilot.gen");
+    assert_eq!(doc["files"].as_array().unwrap().len(), 1);
+    let unread: Vec<(&str, &str)> = doc["unread"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|u| (u["path"].as_str().unwrap(), u["error"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        unread,
+        [
+            ("no/such.gen", "cannot read `no/such.gen`: no such file"),
+            (
+                "/dev/null",
+                "cannot read `/dev/null`: it is not a regular file (a device, FIFO or socket)"
+            ),
+        ]
+    );
+    assert_eq!(doc["summary"]["unread"], 2);
+}
+
+/// Writes `text` to `name` in a fresh folder; returns the folder (kept
+/// alive by the caller) and the path.
+fn file(name: &str, text: &[u8]) -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    let shown = path.to_string_lossy().into_owned();
+    (dir, shown)
+}
+
+#[test]
+fn a_nul_byte_is_escaped_in_messages_and_snippets() {
+    let (_dir, path) = file("nul.gen", b"component c { lang: C; }\0\n");
+    let out = genom_check()
+        .args(["--color", "never", &path])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(!out.stdout.contains(&0), "a raw NUL reached the terminal");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("found `\\0`"), "{stdout}");
+}
+
+#[test]
+fn a_duration_written_with_a_space_gets_a_hint() {
+    let text = b"component c { lang: C; }\nthread t { period: 10 ms; }\n";
+    let (_dir, path) = file("d.gen", text);
+    let (status, stdout, _) = run(&["--color", "never", &path]);
+    assert_eq!(status, 1);
+    assert!(
+        stdout.contains("write the number and its unit together: `10ms`"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn an_idl_file_given_alone_is_checked_as_idl() {
+    let (status, stdout, _) = run(&["--color", "never", "specs/geometry.idl"]);
+    assert_eq!(status, 0, "{stdout}");
+    assert!(!stdout.contains("missing-component"), "{stdout}");
+    let (_dir, path) = file("bad.idl", b"struct p { unknown_t x; };\n");
+    let (status, stdout, _) = run(&["--color", "never", &path]);
+    assert_eq!(status, 1, "{stdout}");
+    assert!(stdout.contains("unknown-type"), "{stdout}");
+    // A `.gen` file without component still misses it.
+    let (_dir, path) = file("empty.gen", b"struct p { long x; };\n");
+    let (status, stdout, _) = run(&["--color", "never", &path]);
+    assert_eq!(status, 1);
+    assert!(stdout.contains("missing-component"), "{stdout}");
+}
+
+#[test]
+fn recursive_types_are_errors_and_block_the_export() {
+    let text = b"component c { lang: C; }\ntypedef T T;\ntypedef struct X { X x; } X;\nids d { X a; T b; }\n";
+    let (_dir, path) = file("r.gen", text);
+    let (status, stdout, _) = run(&["--format", "json", &path]);
+    assert_eq!(status, 1);
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let codes: Vec<&str> = doc["files"][0]["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["code"].as_str().unwrap())
+        .collect();
+    assert_eq!(codes, ["recursive-type", "recursive-type"]);
+    let (status, stdout, _) = run(&["export", "config", &path]);
+    assert_eq!(status, 1);
+    assert!(!stdout.contains("\"verified\": true"), "{stdout}");
+}
+
+#[test]
+fn floating_point_values_out_of_range_are_errors() {
+    let text = b"component c { lang: C; }\nids d { double y := 1e999; float f := 1e300; }\n";
+    let (_dir, path) = file("f.gen", text);
+    let (status, stdout, _) = run(&["--format", "json", &path]);
+    assert_eq!(status, 1, "{stdout}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let messages: Vec<&str> = doc["files"][0]["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["message"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        messages,
+        [
+            "`1e999` is out of range for `double`",
+            "`1e300` is out of range for `float`"
+        ]
+    );
 }

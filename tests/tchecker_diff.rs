@@ -388,6 +388,10 @@ fn report(t: &Tally, algo: &str, elapsed: Duration) -> String {
 }
 
 #[test]
+#[cfg_attr(
+    not(genom_tchecker),
+    ignore = "needs TCK_REACH=path/to/tck-reach when the tests are built (see docs/testing/tchecker.md)"
+)]
 fn timed_verdicts_agree_with_tchecker() {
     let Some(tck) = tck_reach() else {
         eprintln!(

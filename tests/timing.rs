@@ -501,7 +501,7 @@ fn missing_wcet_names_the_codel_and_what_is_left_unproven() {
     let d = the(
         &result,
         Code::MissingWcet,
-        "1 codel without WCET (`max-time`) are taken as running in no time",
+        "1 codel without WCET (`max-time`) is taken as running in no time",
         &report,
     );
     assert_eq!(common::primary_line(&result, d), 14, "{report}");

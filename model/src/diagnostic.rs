@@ -149,6 +149,8 @@ codes! {
     MissingWcet = "missing-wcet", Advice, "timing checks incomplete because codels lack `max-time`";
     /// A limit stopped verification.
     Incomplete = "incomplete", Error, "verification did not finish: a limit stopped it, or the engines do not model the component's semantics";
+    /// A type that contains itself by value.
+    RecursiveType = "recursive-type", Error, "a type that contains itself by value, so that no value of it is finite";
     /// A weaker credential controls a stronger one.
     PrivilegeEscalation = "privilege-escalation", Warning, "a service requestable with a weaker credential controls one that needs a stronger credential";
     /// A preprocessor directive the GenoM3 front end does not interpret.
@@ -339,6 +341,22 @@ impl Counts {
         self.warnings += other.warnings;
         self.advice += other.advice;
     }
+}
+
+/// Source text quoted for a message: in backticks, with control characters
+/// escaped (`\0`, `\u{1b}`) so that a message never writes them raw.
+pub fn quote(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('`');
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    out.push('`');
+    out
 }
 
 #[cfg(test)]

@@ -131,7 +131,14 @@ pub fn lower(path: &Path, text: String, loader: &dyn Loader) -> LowerReturn {
             .sources
             .file(FileId(0))
             .map_or(Span::default(), |f| Span::point(f.base));
-        let resolved = resolve(&parsed.ast, start);
+        let mut resolved = resolve(&parsed.ast, start);
+        // An IDL file given alone is checked for its types; it has no
+        // component to miss.
+        if is_idl(path) {
+            resolved
+                .diagnostics
+                .retain(|d| d.code != Code::MissingComponent);
+        }
         diagnostics.extend(resolved.diagnostics);
         has_component = resolved.has_component;
         model = Some(resolved.component);
@@ -143,6 +150,12 @@ pub fn lower(path: &Path, text: String, loader: &dyn Loader) -> LowerReturn {
         model,
         has_component,
     }
+}
+
+/// Whether `path` names an IDL file (`.idl`, any case).
+fn is_idl(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("idl"))
 }
 
 fn display(path: &Path) -> String {

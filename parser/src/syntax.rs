@@ -133,7 +133,7 @@ pub fn convert(error: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, usize
     let found = match rest.chars().next() {
         None => "end of file".to_owned(),
         Some('\n' | '\r') => "end of line".to_owned(),
-        Some(_) => format!("`{}`", &rest[..token_len]),
+        Some(_) => genom_model::diagnostic::quote(&rest[..token_len]),
     };
     // A missing terminator belongs after the previous token, not on the
     // next line (as rustc reports it).
@@ -146,6 +146,9 @@ pub fn convert(error: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, usize
         Span::new(at(pos), at(pos + token_len))
     };
     let mut d = diagnostics::syntax(span, &join_alternatives(&expected), &found);
+    if let Some(help) = spaced_duration(&expected, rest, token_len) {
+        d = d.with_help(help);
+    }
     if rest.is_empty() {
         if let Some(open) = unclosed_brace(text) {
             d = d.with_label(
@@ -155,6 +158,26 @@ pub fn convert(error: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, usize
         }
     }
     (d, pos)
+}
+
+/// When a duration was expected and the text is a number, blanks, then a
+/// unit (`10 ms`): the help says to write them together.
+fn spaced_duration(expected: &[&str], rest: &str, token_len: usize) -> Option<String> {
+    if !expected.contains(&describe(Rule::duration)) {
+        return None;
+    }
+    let number = rest.get(..token_len)?;
+    let after = rest.get(token_len..)?;
+    let unit: String = after
+        .trim_start_matches([' ', '\t'])
+        .chars()
+        .take_while(char::is_ascii_alphabetic)
+        .collect();
+    let spaced = after.starts_with([' ', '\t']);
+    let is_unit = matches!(unit.as_str(), "ns" | "us" | "ms" | "s" | "min");
+    let is_number = number.chars().all(|c| c.is_ascii_digit() || c == '.');
+    (spaced && is_unit && is_number)
+        .then(|| format!("write the number and its unit together: `{number}{unit}`"))
 }
 
 fn expected_words(error: &Error<Rule>) -> Vec<&'static str> {

@@ -17,7 +17,7 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .max_memory(args.max_memory)
         .behaviour(!args.static_only)
         .reduction(!args.no_reduction);
-    let mut io_failed = false;
+    let mut unread: Vec<json::JsonUnread> = Vec::new();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     let inputs = args.input.inputs();
     for path in &args.files {
@@ -25,16 +25,19 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
             Ok(result) => results.push((display(path), result)),
             Err(e) => {
                 eprintln!("error: {e}");
-                io_failed = true;
+                unread.push(json::JsonUnread {
+                    path: display(path),
+                    error: e.to_string(),
+                });
             }
         }
     }
     let reports: Vec<FileReport<'_>> = results.iter().map(|(path, r)| r.report(path)).collect();
     match output.format {
         Format::Human => print_human(&reports, output),
-        Format::Json => terminal::emit(&(json::render(&reports) + "\n")),
+        Format::Json => terminal::emit(&(json::render_with_unread(&reports, &unread) + "\n")),
     }
-    exit_status(&reports, output.deny, io_failed)
+    exit_status(&reports, output.deny, !unread.is_empty())
 }
 
 fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {

@@ -77,9 +77,13 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     let mut d = Diagnostic::new(
         Code::MissingWcet,
         format!(
-            "{} codel{} without WCET{written} are taken as running in no time",
-            missing.len(),
-            if missing.len() == 1 { "" } else { "s" }
+            "{} without WCET{written} {} taken as running in no time",
+            if missing.len() == 1 {
+                "1 codel".to_owned()
+            } else {
+                format!("{} codels", missing.len())
+            },
+            if missing.len() == 1 { "is" } else { "are" }
         ),
         first.name.span,
         label(first),
@@ -88,4 +92,43 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
         d = d.with_label(k.name.span, label(k));
     }
     vec![d.with_help(format!("left unproven: {}; {remedy}", unproven.join("; ")))]
+}
+
+#[cfg(test)]
+mod tests {
+    use genom_model::Code;
+
+    use crate::testing::{self, HEADER};
+
+    fn messages(src: &str) -> Vec<String> {
+        testing::check(src)
+            .diagnostics
+            .iter()
+            .filter(|d| d.code == Code::MissingWcet)
+            .map(|d| d.message.clone())
+            .collect()
+    }
+
+    const ONE: &str = "service s { thread: main; start codel { exec: f(); next: end; } }\n";
+    const TWO: &str = "service s { thread: main; start codel { exec: f(); next: g; }\n\
+                       exec codel g { exec: g(); next: end; } }\n";
+
+    #[test]
+    fn one_codel_is_singular_and_several_plural() {
+        assert_eq!(
+            messages(&format!("{HEADER}{ONE}")),
+            ["1 codel without WCET (`max-time`) is taken as running in no time"]
+        );
+        assert_eq!(
+            messages(&format!("{HEADER}{TWO}")),
+            ["2 codels without WCET (`max-time`) are taken as running in no time"]
+        );
+    }
+
+    #[test]
+    fn not_given_when_errors_keep_the_timing_checks_from_running() {
+        let broken = format!("{HEADER}{ONE}service t {{ thread: nowhere; }}\n");
+        assert_eq!(testing::count(&broken, Code::UnknownThread), 1);
+        assert!(messages(&broken).is_empty());
+    }
 }

@@ -24,6 +24,7 @@ pub mod missing_wcet;
 pub mod no_termination;
 pub mod privilege_escalation;
 pub mod prototype_mismatch;
+pub mod recursive_type;
 #[cfg(test)]
 mod service_structure;
 pub mod starvation;
@@ -46,6 +47,7 @@ use crate::timed::TimedFacts;
 /// Runs every check on the resolved model.
 pub fn run(component: &Component) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    out.extend(recursive_type::check(component));
     out.extend(prototype_mismatch::check(component));
     out.extend(update_rules::check(component));
     out.extend(unreachable_codel::check(component));

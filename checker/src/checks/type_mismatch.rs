@@ -99,6 +99,42 @@ mod tests {
     }
 
     #[test]
+    fn an_integer_too_large_for_any_type_is_quoted_as_written() {
+        let digits = format!("1{}", "0".repeat(99));
+        assert_eq!(
+            member(&format!("long x := {digits}")),
+            [format!(
+                "10:19 `{digits}`: `{digits}` is out of range for `long`"
+            )]
+        );
+    }
+
+    #[test]
+    fn floating_point_values_out_of_range() {
+        assert_eq!(
+            member("double y := 1e999"),
+            ["10:21 `1e999`: `1e999` is out of range for `double`"]
+        );
+        assert_eq!(
+            member("float f := 1e300"),
+            ["10:20 `1e300`: `1e300` is out of range for `float`"]
+        );
+        assert_eq!(
+            member("float f := -4e38"),
+            ["10:20 `-4e38`: `-4e38` is out of range for `float`"]
+        );
+        let r = testing::check(&format!("{HEADER}{TYPES}ids d {{ float f := 1e300; }}\n"));
+        assert_eq!(
+            r.diagnostics[0].help.as_deref(),
+            Some("`float` holds finite values of magnitude up to 3.4028234663852886e38")
+        );
+        fits("double y := 1e300");
+        fits("float f := 3.4e38");
+        fits("float f := -3.4e38");
+        fits("double y := 1e-999");
+    }
+
+    #[test]
     fn a_string_longer_than_its_bound() {
         assert_eq!(
             member("string<4> name := \"hello\""),

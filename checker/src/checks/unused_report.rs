@@ -71,7 +71,8 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
         return out;
     }
     for service in c.services.values() {
-        if service.control.is_some() {
+        // A `next` naming nothing may be a misspelt report: not unused.
+        if service.control.is_some() || service.unresolved_next {
             continue;
         }
         for (index, report) in service.reports.iter().enumerate() {
@@ -156,6 +157,26 @@ service move {
     fn a_service_without_codels_cannot_produce_its_reports() {
         let s = src("service get {\n  report: NOPE;\n}\n");
         assert_eq!(testing::count(&s, Code::UnusedReport), 1);
+    }
+
+    #[test]
+    fn a_misspelt_report_in_next_is_not_also_an_unused_report() {
+        let typo = src(&USED.replace("end, BLOCKED;", "end, BLOKED;"));
+        assert_eq!(testing::count(&typo, Code::UnknownReport), 1);
+        assert_eq!(testing::count(&typo, Code::UnusedReport), 0);
+        // Another service's unused report is still reported.
+        let both = format!("{typo}{}", FORGOTTEN.replace("move", "turn"));
+        assert_eq!(testing::count(&both, Code::UnusedReport), 1);
+    }
+
+    #[test]
+    fn a_report_named_end_is_one_error_not_also_unused() {
+        let s = src(
+            "service move {\n  thread: main;\n  report: end, OK;\n  start codel { exec: go(); next: OK; }\n}\n",
+        );
+        assert_eq!(testing::codes(&s), [Code::AmbiguousName]);
+        let d = testing::check(&s).diagnostics;
+        assert_eq!(d[0].message, "a report cannot be named `end`");
     }
 
     #[test]

@@ -210,6 +210,9 @@ pub struct Service {
     pub start: Option<CodelId>,
     /// Its control codel.
     pub control: Option<CodelId>,
+    /// Some `next` of its codels names nothing (already diagnosed): checks
+    /// that need every outcome of the service (`unused-report`) skip it.
+    pub unresolved_next: bool,
 }
 
 impl Service {
@@ -236,6 +239,7 @@ impl Service {
             codels: Vec::new(),
             start: None,
             control: None,
+            unresolved_next: false,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Human output: miette graphical reports with source snippets, labels and
 //! help, a numbered trace for behavioural verdicts, and a one-line summary.
 
+use std::borrow::Cow;
 use std::fmt::{self, Write as _};
 
 use miette::{
@@ -358,10 +359,12 @@ impl miette::Diagnostic for Report<'_> {
     }
 }
 
-/// One file's text, named, as a miette source.
+/// One file's text, named, as a miette source; ASCII control characters
+/// other than tabs and line ends are shown as `?` (same byte length, so
+/// spans stay exact) rather than written raw to the terminal.
 struct FileSource<'a> {
     name: String,
-    text: &'a str,
+    text: Cow<'a, str>,
 }
 
 impl<'a> FileSource<'a> {
@@ -369,8 +372,23 @@ impl<'a> FileSource<'a> {
         let f = sources.file(file)?;
         Some(FileSource {
             name: f.display_path(),
-            text: &f.text,
+            text: printable(&f.text),
         })
+    }
+}
+
+/// `text` with ASCII control characters other than `\t`, `\n` and `\r`
+/// replaced by `?`.
+fn printable(text: &str) -> Cow<'_, str> {
+    let hidden = |c: char| c.is_ascii_control() && !matches!(c, '\t' | '\n' | '\r');
+    if text.contains(hidden) {
+        Cow::Owned(
+            text.chars()
+                .map(|c| if hidden(c) { '?' } else { c })
+                .collect(),
+        )
+    } else {
+        Cow::Borrowed(text)
     }
 }
 
@@ -381,9 +399,10 @@ impl SourceCode for FileSource<'_> {
         context_lines_before: usize,
         context_lines_after: usize,
     ) -> Result<Box<dyn SpanContents<'b> + 'b>, MietteError> {
-        let inner = self
-            .text
-            .read_span(span, context_lines_before, context_lines_after)?;
+        let inner =
+            self.text
+                .as_ref()
+                .read_span(span, context_lines_before, context_lines_after)?;
         Ok(Box::new(MietteSpanContents::new_named(
             self.name.clone(),
             inner.data(),

@@ -20,6 +20,8 @@ pub struct JsonDocument {
     pub version: u32,
     /// One entry per checked file, in command-line order.
     pub files: Vec<JsonFile>,
+    /// The files that could not be read at all, in command-line order.
+    pub unread: Vec<JsonUnread>,
     /// Totals over all files.
     pub summary: JsonSummary,
 }
@@ -51,6 +53,15 @@ pub struct JsonPragma {
     pub location: JsonLocation,
 }
 
+/// A file that could not be read (exit status 2).
+#[derive(Debug, Clone, Serialize)]
+pub struct JsonUnread {
+    /// The path as given.
+    pub path: String,
+    /// Why, e.g. ``cannot read `x.gen`: no such file``.
+    pub error: String,
+}
+
 /// Totals.
 #[derive(Debug, Serialize)]
 pub struct JsonSummary {
@@ -60,6 +71,8 @@ pub struct JsonSummary {
     pub warnings: usize,
     /// Number of advice.
     pub advice: usize,
+    /// Number of files that could not be read.
+    pub unread: usize,
     /// States explored over all files.
     pub states: u64,
     /// Transitions fired over all files.
@@ -147,11 +160,18 @@ pub struct JsonStep {
 
 /// Builds the document for a run.
 pub fn document(reports: &[FileReport<'_>]) -> JsonDocument {
+    document_with_unread(reports, &[])
+}
+
+/// Builds the document for a run in which the `unread` files could not be
+/// read.
+pub fn document_with_unread(reports: &[FileReport<'_>], unread: &[JsonUnread]) -> JsonDocument {
     let mut counts = Counts::default();
     let mut summary = JsonSummary {
         errors: 0,
         warnings: 0,
         advice: 0,
+        unread: unread.len(),
         states: 0,
         transitions: 0,
         time_ms: 0.0,
@@ -192,13 +212,20 @@ pub fn document(reports: &[FileReport<'_>]) -> JsonDocument {
     JsonDocument {
         version: FORMAT_VERSION,
         files,
+        unread: unread.to_vec(),
         summary,
     }
 }
 
 /// Renders the document as pretty JSON text.
 pub fn render(reports: &[FileReport<'_>]) -> String {
-    serde_json::to_string_pretty(&document(reports))
+    render_with_unread(reports, &[])
+}
+
+/// Renders the document of a run in which the `unread` files could not be
+/// read.
+pub fn render_with_unread(reports: &[FileReport<'_>], unread: &[JsonUnread]) -> String {
+    serde_json::to_string_pretty(&document_with_unread(reports, unread))
         .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
 }
 

@@ -136,7 +136,7 @@ fn found_at(text: &str, pos: usize) -> String {
     let rest = text.get(pos..).unwrap_or("");
     match rest.get(..token_len(text, pos)) {
         None | Some("") => "end of file".to_owned(),
-        Some(tok) => format!("`{tok}`"),
+        Some(tok) => genom_model::diagnostic::quote(tok),
     }
 }
 

@@ -157,6 +157,17 @@ pub fn codel_named_end(span: Span) -> Diagnostic {
     .with_help("rename the codel")
 }
 
+/// A report named `end`.
+pub fn report_named_end(span: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::AmbiguousName,
+        "a report cannot be named `end`",
+        span,
+        "`end` means successful termination",
+    )
+    .with_help("rename the report: `next: end` always ends the service successfully")
+}
+
 fn article(word: &str) -> &'static str {
     if word.starts_with(['a', 'e', 'i', 'o', 'u']) {
         "an"

@@ -49,6 +49,25 @@ pub fn out_of_range(span: Span, value: &str, ty: &str, min: i128, max: i128) -> 
     .with_help(format!("`{ty}` holds values from {min} to {max}"))
 }
 
+/// A floating-point value its type cannot hold (infinite, or beyond the
+/// magnitude of `float`).
+pub fn float_out_of_range(span: Span, value: &str, ty: &str) -> Diagnostic {
+    let max = if ty == "float" {
+        f64::from(f32::MAX)
+    } else {
+        f64::MAX
+    };
+    Diagnostic::new(
+        Code::TypeMismatch,
+        format!("`{value}` is out of range for `{ty}`"),
+        span,
+        "out of range",
+    )
+    .with_help(format!(
+        "`{ty}` holds finite values of magnitude up to {max:e}"
+    ))
+}
+
 /// Too many `unit`s (`elements`, `characters`) for a bound.
 pub fn too_long(span: Span, ty: &str, length: usize, bound: u64, unit: &str) -> Diagnostic {
     Diagnostic::new(

@@ -260,6 +260,7 @@ impl Resolver {
             self.report(d);
             return;
         }
+        self.c.services[service].unresolved_next = true;
         let reports: Vec<String> = self.c.services[service]
             .reports
             .iter()

@@ -410,7 +410,8 @@ fn number_value(n: &ast::Number) -> Value {
     }
 }
 
-fn as_float(v: &Value) -> f64 {
+/// A numeric value as `f64` (integers rounded; NaN for other values).
+pub(super) fn as_float(v: &Value) -> f64 {
     match v {
         #[allow(clippy::cast_precision_loss)]
         Value::Int(i) => *i as f64,

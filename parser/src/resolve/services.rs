@@ -10,7 +10,8 @@ use genom_model::kinds::{DataKind, ServiceKind};
 use super::attrs::{self, Attrs};
 use super::{Resolver, named};
 use crate::checks::{
-    duplicate_definition, invalid_attribute, service_structure, type_mismatch, unknown_name,
+    codel_transitions, duplicate_definition, invalid_attribute, service_structure, type_mismatch,
+    unknown_name,
 };
 
 /// Resolves every service: names first, so that references resolve in any
@@ -108,6 +109,11 @@ impl Resolver {
                 self.report(duplicate_definition::duplicate(
                     "report", &r.name, r.span, first,
                 ));
+                continue;
+            }
+            if r.name == "end" {
+                // Not a report: `next: end` can only mean termination.
+                self.report(codel_transitions::report_named_end(r.span));
                 continue;
             }
             out.push(named(r));

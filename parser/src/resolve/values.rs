@@ -29,13 +29,7 @@ impl Resolver {
             }
             ast::Value::List(items, span) => self.list_value(items, *span, ty, scope),
             ast::Value::Name(name) => self.name_value(name, ty, scope),
-            ast::Value::Number(n) => {
-                let raw = match n.value {
-                    ast::Number::Int(i) => Value::Int(i),
-                    ast::Number::Float(f) => Value::Float(f),
-                };
-                self.fit(raw, ty, n.span)
-            }
+            ast::Value::Number(n) => self.fit_number(n, ty),
             ast::Value::Str(s) => self.fit(Value::Str(s.value.clone()), ty, s.span),
             ast::Value::Bool(b, span) => self.fit(Value::Bool(*b), ty, *span),
         }
@@ -161,7 +155,15 @@ impl Resolver {
             }
             #[allow(clippy::cast_precision_loss)]
             (Value::Int(i), Ty::Base { base }) if base.is_float() => Some(Value::Float(*i as f64)),
-            (Value::Float(_), Ty::Base { base }) if base.is_float() => Some(v),
+            (Value::Float(f), Ty::Base { base }) if base.is_float() => {
+                if !float_fits(*f, *base) {
+                    let shown = describe_value(&v);
+                    let d = type_mismatch::float_out_of_range(span, &shown, base.idl());
+                    self.report(d);
+                    return None;
+                }
+                Some(v)
+            }
             (
                 Value::Bool(_),
                 Ty::Base {
@@ -193,6 +195,33 @@ impl Resolver {
         }
     }
 
+    /// Checks a numeric literal against a type, quoting it as written when
+    /// it is out of range (an integer too large even for `i128`, or a
+    /// floating-point value its type cannot hold).
+    fn fit_number(&mut self, n: &ast::NumberLit, ty: &Ty) -> Option<Value> {
+        let raw = match n.value {
+            ast::Number::Int(i) => Value::Int(i),
+            ast::Number::Float(f) => Value::Float(f),
+        };
+        if let Ty::Base { base } = self.c.types.resolve(ty).clone() {
+            let huge_integer = matches!(n.value, ast::Number::Float(_)) && is_integral(&n.text);
+            if let (true, Some((min, max))) = (huge_integer, base.integer_range()) {
+                let d = type_mismatch::out_of_range(n.span, &n.text, base.idl(), min, max);
+                self.report(d);
+                return None;
+            }
+            if base.is_float() && !float_fits(super::idl::as_float(&raw), base) {
+                self.report(type_mismatch::float_out_of_range(
+                    n.span,
+                    &n.text,
+                    base.idl(),
+                ));
+                return None;
+            }
+        }
+        self.fit(raw, ty, n.span)
+    }
+
     fn in_range(&mut self, i: i128, base: BaseType, span: Span) -> Option<Value> {
         let (min, max) = base.integer_range()?;
         if i < min || i > max {
@@ -213,5 +242,21 @@ impl Resolver {
             .types
             .enumerators(ty)
             .is_some_and(|(_, values)| values.iter().any(|(v, _)| v == name))
+    }
+}
+
+/// Whether a numeric literal is written as an integer (decimal digits, or
+/// hexadecimal), whatever its size.
+fn is_integral(text: &str) -> bool {
+    let body = text.strip_prefix('-').unwrap_or(text);
+    body.starts_with("0x") || body.starts_with("0X") || !body.contains(['.', 'e', 'E'])
+}
+
+/// Whether a floating-point type holds `f`: finite, and for `float` within
+/// the magnitude of `f32`.
+fn float_fits(f: f64, base: BaseType) -> bool {
+    match base {
+        BaseType::Float => f.is_finite() && f.abs() <= f64::from(f32::MAX),
+        _ => f.is_finite(),
     }
 }
