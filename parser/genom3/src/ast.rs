@@ -96,7 +96,7 @@ pub struct Port {
     pub dir: PortDir,
     /// Data type.
     pub ty: TypeSpec,
-    /// Its properties (`doc`, `throws`).
+    /// Its properties (only `doc` is allowed; others are reported).
     pub properties: Vec<Property>,
 }
 

@@ -401,6 +401,12 @@ impl<'a> Ctx<'a> {
             self.diags
                 .push(diagnostics::anonymous_port_type(&p.name.name, p.name.span));
         }
+        // As genom3's port.c: a port takes `doc` only.
+        for prop in &p.properties {
+            if !matches!(prop.kind, PropertyKind::Doc(_)) {
+                self.misplaced(prop.span, &prop.kind, "a port");
+            }
+        }
         let ty = self.types.ty(&p.ty, scope);
         let is_out = (p.dir == ast::PortDir::Out) != used;
         let structure = self.c.structures.push(Structure {
