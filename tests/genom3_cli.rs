@@ -301,14 +301,18 @@ fn fixtures(kind: &str) -> Vec<PathBuf> {
     all
 }
 
-/// The WCET side file next to a fixture, as arguments.
-fn wcet_args(path: &Path) -> Vec<String> {
+/// Checks a front-end fixture statically as GenoM3, with the WCET side
+/// file next to it if there is one.
+fn check_fixture(path: &Path) -> (i32, Value) {
+    let shown = path.to_string_lossy();
     let wcet = path.with_extension("wcet");
-    if wcet.is_file() {
-        vec!["--wcet".into(), wcet.to_string_lossy().into_owned()]
-    } else {
-        Vec::new()
+    let wcet = wcet.to_string_lossy();
+    let mut args = vec!["--static-only", "--dialect", "genom3"];
+    if path.with_extension("wcet").is_file() {
+        args.extend(["--wcet", &wcet]);
     }
+    args.push(&shown);
+    json(&args)
 }
 
 #[test]
@@ -318,15 +322,7 @@ fn the_front_end_fixtures_give_their_codes_through_the_cli() {
     for path in invalid {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let code = name.split('.').next().unwrap();
-        let mut args = vec![
-            "--static-only".to_owned(),
-            "--dialect".into(),
-            "genom3".into(),
-        ];
-        args.extend(wcet_args(&path));
-        args.push(path.to_string_lossy().into_owned());
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let (status, file) = json(&args);
+        let (status, file) = check_fixture(&path);
         let found: Vec<String> = ["error", "warning", "advice"]
             .iter()
             .flat_map(|s| codes(&file, s))
@@ -337,15 +333,7 @@ fn the_front_end_fixtures_give_their_codes_through_the_cli() {
         assert_eq!(file["dialect"], "genom3");
     }
     for path in fixtures("valid") {
-        let mut args = vec![
-            "--static-only".to_owned(),
-            "--dialect".into(),
-            "genom3".into(),
-        ];
-        args.extend(wcet_args(&path));
-        args.push(path.to_string_lossy().into_owned());
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let (status, file) = json(&args);
+        let (status, file) = check_fixture(&path);
         assert_eq!(status, 0, "{}: {file:#}", path.display());
         assert!(codes(&file, "warning").is_empty(), "{file:#}");
     }

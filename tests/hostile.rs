@@ -138,6 +138,17 @@ fn file(name: &str, text: &[u8]) -> (tempfile::TempDir, String) {
     (dir, shown)
 }
 
+/// `field` of every diagnostic of the first file of a JSON report.
+fn diagnostic_fields(stdout: &str, field: &str) -> Vec<String> {
+    let doc: serde_json::Value = serde_json::from_str(stdout).unwrap();
+    doc["files"][0]["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d[field].as_str().unwrap().to_owned())
+        .collect()
+}
+
 #[test]
 fn a_nul_byte_is_escaped_in_messages_and_snippets() {
     let (_dir, path) = file("nul.gen", b"component c { lang: C; }\0\n");
@@ -185,13 +196,7 @@ fn recursive_types_are_errors_and_block_the_export() {
     let (_dir, path) = file("r.gen", text);
     let (status, stdout, _) = run(&["--format", "json", &path]);
     assert_eq!(status, 1);
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let codes: Vec<&str> = doc["files"][0]["diagnostics"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|d| d["code"].as_str().unwrap())
-        .collect();
+    let codes = diagnostic_fields(&stdout, "code");
     assert_eq!(codes, ["recursive-type", "recursive-type"]);
     let (status, stdout, _) = run(&["export", "config", &path]);
     assert_eq!(status, 1);
@@ -204,13 +209,7 @@ fn floating_point_values_out_of_range_are_errors() {
     let (_dir, path) = file("f.gen", text);
     let (status, stdout, _) = run(&["--format", "json", &path]);
     assert_eq!(status, 1, "{stdout}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let messages: Vec<&str> = doc["files"][0]["diagnostics"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|d| d["message"].as_str().unwrap())
-        .collect();
+    let messages = diagnostic_fields(&stdout, "message");
     assert_eq!(
         messages,
         [
