@@ -218,3 +218,50 @@ fn floating_point_values_out_of_range_are_errors() {
         ]
     );
 }
+
+/// The 10 MB component of the issue (1000 services of 100 codels, dense
+/// rules, timed): `--timeout` bounds every phase, parsing included.
+#[test]
+fn the_time_limit_bounds_every_phase_of_a_huge_component() {
+    let out = genom_check()
+        .args([
+            "generate",
+            "--seed",
+            "1",
+            "--services",
+            "1000",
+            "--codels",
+            "100",
+            "--threads",
+            "100",
+            "--density",
+            "5",
+            "--timed",
+            "--autos",
+            "10",
+            "--init",
+            "--loops",
+            "1",
+            "--self-stops",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(out.stdout.len() > 5_000_000, "{} bytes", out.stdout.len());
+    let (_dir, path) = file("big.gen", &out.stdout);
+    for extra in [&[][..], &["--static-only"][..]] {
+        let started = std::time::Instant::now();
+        let mut args = vec!["--format", "json", "--timeout", "2s"];
+        args.extend(extra);
+        args.push(&path);
+        let (status, stdout, _) = run(&args);
+        let took = started.elapsed();
+        assert_eq!(status, 1);
+        let codes = diagnostic_fields(&stdout, "code");
+        assert!(codes.contains(&"incomplete".to_owned()), "{codes:?}");
+        // A generous bound: the limit is 2 s, one item or transition more
+        // may run after it.
+        assert!(took.as_secs() < 120, "{took:?} for --timeout 2s {extra:?}");
+    }
+}

@@ -75,6 +75,11 @@ impl CheckOptions {
         self
     }
 
+    /// When a check started at `started` must stop (`--timeout`), if ever.
+    pub fn deadline(&self, started: Instant) -> Option<Instant> {
+        self.timeout.map(|t| started + t)
+    }
+
     /// Whether the behavioural engines run (not `--static-only`).
     pub fn runs_behaviour(&self) -> bool {
         self.behaviour
@@ -115,7 +120,20 @@ pub fn verify(
 ) -> Verdicts {
     let mut component = None;
     if let Some(model) = model {
-        diagnostics.extend(crate::checks::run(&model));
+        if options
+            .deadline(started)
+            .is_some_and(|d| Instant::now() >= d)
+        {
+            // The front-end used up the time: nothing is checked.
+            let what = "every static check and every behavioural property";
+            diagnostics.push(crate::checks::incomplete::incomplete(
+                &model,
+                crate::engine::Stop::Time,
+                what,
+            ));
+        } else {
+            diagnostics.extend(crate::checks::run(&model));
+        }
         component = has_component.then_some(model);
     }
     // A codel longer than its period leaves the model well formed: the

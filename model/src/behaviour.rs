@@ -222,36 +222,40 @@ impl ServiceMachine {
     }
 
     /// For each position: whether, staying within positions accepted by
-    /// `keep`, codel steps can go on forever (a cycle is reachable).
+    /// `keep`, codel steps can go on forever (a cycle is reachable). Linear:
+    /// the cycles are the strongly connected sets of kept positions (or a
+    /// position that steps to itself), then every kept position that
+    /// reaches one, searched backwards from them.
     fn loops(&self, keep: impl Fn(Position) -> bool) -> Vec<bool> {
+        use petgraph::Direction::Incoming;
+        use petgraph::graph::{DiGraph, NodeIndex};
         let n = self.positions.len();
         let kept: Vec<bool> = self.positions.iter().map(|&p| keep(p)).collect();
-        let on_cycle: Vec<bool> = (0..n)
-            .map(|p| kept[p] && self.reaches(p, p, &kept))
-            .collect();
-        (0..n)
-            .map(|p| kept[p] && (0..n).any(|q| on_cycle[q] && self.reaches_or_is(p, q, &kept)))
-            .collect()
-    }
-
-    fn reaches_or_is(&self, from: usize, to: usize, kept: &[bool]) -> bool {
-        from == to || self.reaches(from, to, kept)
-    }
-
-    /// Whether `to` is reachable from `from` in one or more steps within
-    /// kept positions.
-    fn reaches(&self, from: usize, to: usize, kept: &[bool]) -> bool {
-        let mut seen = vec![false; self.positions.len()];
-        let mut stack: Vec<usize> = self.kept_steps(from, kept);
-        while let Some(p) = stack.pop() {
-            if p == to {
-                return true;
-            }
-            if !std::mem::replace(&mut seen[p], true) {
-                stack.extend(self.kept_steps(p, kept));
+        let mut g: DiGraph<(), ()> = DiGraph::with_capacity(n, n);
+        let nodes: Vec<NodeIndex> = (0..n).map(|_| g.add_node(())).collect();
+        for p in (0..n).filter(|&p| kept[p]) {
+            for q in self.kept_steps(p, &kept) {
+                g.add_edge(nodes[p], nodes[q], ());
             }
         }
-        false
+        let mut reaches_cycle = vec![false; n];
+        let mut stack = Vec::new();
+        for scc in petgraph::algo::tarjan_scc(&g) {
+            if scc.len() > 1 || g.contains_edge(scc[0], scc[0]) {
+                for v in scc {
+                    reaches_cycle[v.index()] = true;
+                    stack.push(v);
+                }
+            }
+        }
+        while let Some(q) = stack.pop() {
+            for p in g.neighbors_directed(q, Incoming) {
+                if !std::mem::replace(&mut reaches_cycle[p.index()], true) {
+                    stack.push(p);
+                }
+            }
+        }
+        reaches_cycle
     }
 
     fn kept_steps(&self, p: usize, kept: &[bool]) -> Vec<usize> {

@@ -80,6 +80,17 @@ pub fn too_many_errors(span: Span, count: usize) -> Diagnostic {
     )
 }
 
+/// `incomplete`: the time limit passed while parsing; the rest was not read.
+pub fn time_limit(at: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::Incomplete,
+        "verification is incomplete: the time limit (--timeout) was reached while parsing",
+        at,
+        "parsing stopped here",
+    )
+    .with_help("nothing was checked: the rest of the file was not read; raise --timeout")
+}
+
 /// `syntax`: a constant expression with more operators than the parser
 /// builds (its tree would be as deep as it is long).
 pub fn expression_too_long(span: Span, limit: usize) -> Diagnostic {

@@ -21,6 +21,7 @@ mod syntax;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use genom_model::component::Component;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
@@ -57,7 +58,7 @@ impl ParserReturn {
         !self.diagnostics.iter().any(|d| {
             matches!(
                 d.code,
-                Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle
+                Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle | Code::Incomplete
             )
         })
     }
@@ -73,11 +74,24 @@ pub fn parse_file(path: &Path, loader: &dyn Loader) -> Result<ParserReturn, Load
 /// Parses already-loaded text as the checked file; includes go through
 /// `loader`.
 pub fn parse_source(path: &Path, text: String, loader: &dyn Loader) -> ParserReturn {
+    parse_source_until(path, text, loader, None)
+}
+
+/// [`parse_source`], stopping at `deadline` between two items: what is left
+/// is not read, and an `incomplete` error says where parsing stopped.
+pub fn parse_source_until(
+    path: &Path,
+    text: String,
+    loader: &dyn Loader,
+    deadline: Option<Instant>,
+) -> ParserReturn {
     let mut session = Session {
         loader,
         out: ParserReturn::default(),
         stack: Vec::new(),
         loaded: BTreeMap::new(),
+        deadline,
+        stopped: false,
     };
     let file = session.out.sources.add(path, text);
     session.stack.push((loader.identity(path), display(path)));
@@ -122,7 +136,18 @@ pub fn lower_file(path: &Path, loader: &dyn Loader) -> Result<LowerReturn, LoadE
 /// `loader`) and, when every file parsed completely, resolves it into the
 /// component model.
 pub fn lower(path: &Path, text: String, loader: &dyn Loader) -> LowerReturn {
-    let parsed = parse_source(path, text, loader);
+    lower_until(path, text, loader, None)
+}
+
+/// [`lower`], parsing until `deadline` at most (see
+/// [`parse_source_until`]); a stopped parse is not resolved.
+pub fn lower_until(
+    path: &Path,
+    text: String,
+    loader: &dyn Loader,
+    deadline: Option<Instant>,
+) -> LowerReturn {
+    let parsed = parse_source_until(path, text, loader, deadline);
     let mut diagnostics = parsed.diagnostics.clone();
     let mut model = None;
     let mut has_component = false;
@@ -169,6 +194,10 @@ struct Session<'l> {
     stack: Vec<(PathBuf, String)>,
     /// Files already loaded, by identity.
     loaded: BTreeMap<PathBuf, FileId>,
+    /// When to stop parsing (`--timeout`).
+    deadline: Option<Instant>,
+    /// The deadline passed: nothing more is parsed.
+    stopped: bool,
 }
 
 impl Session<'_> {
@@ -180,7 +209,11 @@ impl Session<'_> {
             is_idl,
             items: Vec::new(),
         });
-        let mut items = self.parse_items(file, is_idl);
+        let mut items = if self.stopped {
+            Vec::new()
+        } else {
+            self.parse_items(file, is_idl)
+        };
         for item in &mut items {
             if let Item::Include(include) = item {
                 include.file = self.include(file, &include.path.value, include.path.span);
@@ -231,6 +264,15 @@ impl Session<'_> {
         Some(file)
     }
 
+    /// True once the deadline has passed (then for good).
+    fn out_of_time(&mut self) -> bool {
+        if !self.stopped && self.deadline.is_some_and(|d| Instant::now() >= d) {
+            self.stopped = true;
+            return true;
+        }
+        false
+    }
+
     /// Parses the items of one file, resuming after each syntax error.
     fn parse_items(&mut self, file: FileId, is_idl: bool) -> Vec<Item> {
         let Some(source) = self.out.sources.file(file) else {
@@ -253,6 +295,11 @@ impl Session<'_> {
         let mut errors = 0;
         let mut pos = 0;
         while pos <= text.len() {
+            if self.out_of_time() {
+                let at = Span::point(base + to_u32(pos));
+                self.out.diagnostics.push(diagnostics::time_limit(at));
+                break;
+            }
             match parse_one(rule, &text, pos, base, &mut self.out.diagnostics) {
                 Step::Item(item, end) => {
                     items.extend(item);

@@ -118,6 +118,10 @@ pub(crate) struct Witnesses<'w> {
     pub(crate) sys: &'w System<'w>,
     pub(crate) config: &'w dyn Fn(StateId) -> Config,
     pub(crate) trace: &'w dyn Fn(StateId, Option<ServiceId>, TraceStep) -> Trace,
+    /// Whether the exploration finished. A stopped one leaves its members
+    /// unproven, so no dead-service candidate (and no costly trace) is
+    /// gathered from it.
+    pub(crate) complete: bool,
 }
 
 /// Explores the component and gathers every behavioural fact, with
@@ -189,6 +193,7 @@ fn pre_init(
             sys: &sys,
             config: &config,
             trace: &trace,
+            complete: true,
         },
         &found,
         out,
@@ -233,6 +238,7 @@ fn explore_cluster(
             sys,
             config: &config,
             trace: &trace,
+            complete: true,
         },
         &found,
         out,
@@ -346,6 +352,7 @@ fn explore_part(
             sys,
             config: &config,
             trace: &trace,
+            complete: true,
         },
         &found,
         out,
@@ -530,7 +537,7 @@ pub(crate) fn collect(w: &Witnesses<'_>, found: &Found, out: &mut Analysis) {
         let trace = (w.trace)(id, Some(service), violation(text));
         out.unbounded.push(Unbounded { service, trace });
     }
-    for s in w.sys.services() {
+    for s in w.sys.services().filter(|_| w.complete) {
         if !found.started.contains(&s) && !out.dead_candidates.contains_key(&s) {
             if let Some(blocked) = never_started(w, found, s) {
                 out.dead_candidates.insert(s, blocked);

@@ -48,6 +48,13 @@ pub trait Model {
     fn reduce(&self, _state: &Self::State, actions: &mut [Self::Action]) -> usize {
         actions.len()
     }
+    /// How many transitions pass between two looks at the clock and the
+    /// memory (default 64, and 16 times as many expansions). A model whose
+    /// transitions are costly (zones over many clocks) asks for fewer, so
+    /// that `--timeout` is kept within about one transition.
+    fn limit_period(&self) -> u64 {
+        64
+    }
 }
 
 /// Resource limits of one run.
@@ -128,7 +135,7 @@ pub fn explore<M: Model>(
     let mut stopped = None;
     let mut reduced = 0u64;
     'expansions: while next < store.len() {
-        stopped = check_limits(&store, limits, next);
+        stopped = check_limits(&store, limits, next, model.limit_period());
         if stopped.is_some() {
             break;
         }
@@ -161,7 +168,8 @@ pub fn explore<M: Model>(
                         visit(sid, &succ);
                     }
                     old_successor |= !new;
-                    stopped = check_successor(&store, limits, new, transitions);
+                    let period = model.limit_period();
+                    stopped = check_successor(&store, limits, new, transitions, period);
                     if stopped.is_some() {
                         break 'expansions;
                     }
@@ -188,16 +196,17 @@ pub fn explore<M: Model>(
 }
 
 /// The state limit is checked before every expansion; time and memory
-/// every 1024 expansions.
+/// every `16 × period` expansions.
 fn check_limits<A: Copy, Z: Subsumes>(
     store: &Store<A, Z>,
     limits: Limits,
     expanded: usize,
+    period: u64,
 ) -> Option<Stop> {
     if store.len() >= limits.max_states {
         return Some(Stop::States);
     }
-    if expanded % 1024 != 0 {
+    if expanded as u64 % (16 * period.max(1)) != 0 {
         return None;
     }
     if limits.deadline.is_some_and(|d| Instant::now() >= d) {
@@ -209,18 +218,19 @@ fn check_limits<A: Copy, Z: Subsumes>(
 /// The limits checked while one state is expanded (a state of a large
 /// component has thousands of successors, each costly to visit): the state
 /// limit after each new state (which is unexpanded, so stopping there is
-/// what the next [`check_limits`] would do), time and memory every 64
-/// transitions.
+/// what the next [`check_limits`] would do), time and memory every
+/// `period` transitions.
 fn check_successor<A: Copy, Z: Subsumes>(
     store: &Store<A, Z>,
     limits: Limits,
     new: bool,
     transitions: u64,
+    period: u64,
 ) -> Option<Stop> {
     if new && store.len() >= limits.max_states {
         return Some(Stop::States);
     }
-    if transitions % 64 != 0 {
+    if transitions % period.max(1) != 0 {
         return None;
     }
     if limits.deadline.is_some_and(|d| Instant::now() >= d) {

@@ -105,6 +105,16 @@ pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
     let mut facts = TimedFacts::default();
     let mut budget = limits;
     for (members, frozen) in timed_explorations(c) {
+        // Past the deadline, a cluster is not even built (a large one takes
+        // long to set up): it is left unproven.
+        if budget
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+        {
+            out.stopped.get_or_insert(crate::engine::Stop::Time);
+            out.unproven.extend(members.iter().copied());
+            continue;
+        }
         explore_timed(c, &b, &members, frozen, &mut budget, &mut out, &mut facts);
     }
     let all: Vec<ServiceId> = c.services.ids().collect();
@@ -146,6 +156,7 @@ fn explore_timed(
             sys: &ts.sys,
             config: &config,
             trace: &trace,
+            complete: e.stopped.is_none(),
         },
         &found,
         out,

@@ -522,6 +522,13 @@ impl Model for TimedSystem<'_> {
     type Action = TAction;
     type Zone = Dbm;
 
+    /// A transition costs at least the square of the clocks (zone
+    /// operations): beyond 32 clocks, the limits are looked at after every
+    /// transition.
+    fn limit_period(&self) -> u64 {
+        if self.clocks.len() > 32 { 1 } else { 64 }
+    }
+
     fn width(&self) -> usize {
         self.width
     }
