@@ -187,6 +187,10 @@ fn display(path: &Path) -> String {
     path.to_string_lossy().replace('\\', "/")
 }
 
+/// How much text is parsed between two looks at the clock: a file smaller
+/// than this is never cut by `--timeout` (parsing it takes milliseconds).
+const CLOCK_BYTES: usize = 64 * 1024;
+
 struct Session<'l> {
     loader: &'l dyn Loader,
     out: ParserReturn,
@@ -264,7 +268,8 @@ impl Session<'_> {
         Some(file)
     }
 
-    /// True once the deadline has passed (then for good).
+    /// True once the deadline has passed (then for good). Looked at every
+    /// [`CLOCK_BYTES`] of text, so that a small file is always read whole.
     fn out_of_time(&mut self) -> bool {
         if !self.stopped && self.deadline.is_some_and(|d| Instant::now() >= d) {
             self.stopped = true;
@@ -294,11 +299,15 @@ impl Session<'_> {
         let mut items = Vec::new();
         let mut errors = 0;
         let mut pos = 0;
+        let mut next_look = CLOCK_BYTES;
         while pos <= text.len() {
-            if self.out_of_time() {
-                let at = Span::point(base + to_u32(pos));
-                self.out.diagnostics.push(diagnostics::time_limit(at));
-                break;
+            if pos >= next_look {
+                next_look = pos + CLOCK_BYTES;
+                if self.out_of_time() {
+                    let at = Span::point(base + to_u32(pos));
+                    self.out.diagnostics.push(diagnostics::time_limit(at));
+                    break;
+                }
             }
             match parse_one(rule, &text, pos, base, &mut self.out.diagnostics) {
                 Step::Item(item, end) => {
