@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use genom_checker::checks::incomplete;
-use genom_genom3::{FsLoader, Genom3Options, Loader};
+use genom_genom3::Genom3Options;
 use genom_model::{Dialect, Severity};
 
 use crate::pipeline::{CheckOptions, CheckResult, InputError, Inputs, display};
@@ -23,20 +23,17 @@ pub(crate) fn check(
     options: &CheckOptions,
 ) -> Result<CheckResult, InputError> {
     let started = Instant::now();
-    let search = Genom3Options {
+    let options3 = Genom3Options {
         include_dirs: inputs.include_dirs.clone(),
         use_env_include_path: true,
-        wcet_file: None,
-    }
-    .search_path();
-    let mut front = genom_genom3::load_with(path, text, &search, &FsLoader);
-    if let Some(wcet) = &inputs.wcet_file {
-        let text = FsLoader.load(wcet).map_err(|error| InputError::Read {
-            path: display(wcet),
+        wcet_file: inputs.wcet_file.clone(),
+    };
+    // The checked file is read already: only the WCET file can fail.
+    let mut front =
+        genom_genom3::load_text(path, text, &options3).map_err(|error| InputError::Read {
+            path: inputs.wcet_file.as_deref().map(display).unwrap_or_default(),
             error,
         })?;
-        genom_genom3::add_wcet_file(&mut front, wcet, text);
-    }
     // A partial component (a file missing or unparsed) is not checked: its
     // findings would be the cascade of what is missing.
     let has_component = front.component.is_some();

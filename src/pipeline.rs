@@ -10,6 +10,8 @@ use genom_model::{Diagnostic, Dialect, Pragma, SourceMap, Statistics, sort_diagn
 use genom_parser::{FsLoader, LoadError, Loader};
 
 pub use genom_checker::CheckOptions;
+/// A path as shown to people (forward slashes).
+pub use genom_model::span::display_path as display;
 
 /// Everything a check found about one file.
 #[derive(Debug, Clone)]
@@ -150,9 +152,4 @@ impl CheckResult {
         self.diagnostics.extend(more);
         sort_diagnostics(&mut self.diagnostics);
     }
-}
-
-/// A path as shown to people (forward slashes).
-pub fn display(path: &Path) -> String {
-    path.to_string_lossy().replace('\\', "/")
 }

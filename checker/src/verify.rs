@@ -88,7 +88,7 @@ impl CheckOptions {
     fn limits(&self, started: Instant) -> Limits {
         Limits {
             max_states: self.max_states,
-            deadline: self.timeout.map(|t| started + t),
+            deadline: self.deadline(started),
             max_bytes: self.max_memory,
         }
     }

@@ -61,10 +61,15 @@ pub struct SourceFile {
     line_starts: Vec<u32>,
 }
 
+/// A path as shown to people: with `/` separators on every platform.
+pub fn display_path(path: &Path) -> String {
+    path.to_string_lossy().replace('\\', "/")
+}
+
 impl SourceFile {
     /// The path as a display string with `/` separators.
     pub fn display_path(&self) -> String {
-        self.path.to_string_lossy().replace('\\', "/")
+        display_path(&self.path)
     }
 
     /// 1-based line and column (in characters) of a local byte offset.

@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use genom_model::component::Component;
+use genom_model::span::display_path as display;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 use pest::Parser as _;
 
@@ -181,10 +182,6 @@ pub fn lower_until(
 fn is_idl(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("idl"))
-}
-
-fn display(path: &Path) -> String {
-    path.to_string_lossy().replace('\\', "/")
 }
 
 /// How much text is parsed between two looks at the clock: a file smaller

@@ -16,7 +16,7 @@ pub enum LiteralError {
 }
 
 /// Nanoseconds per unit.
-fn unit_ns(unit: &str) -> Option<u128> {
+pub(crate) fn unit_ns(unit: &str) -> Option<u128> {
     Some(match unit {
         "ns" => 1,
         "us" => 1_000,

@@ -174,7 +174,7 @@ fn spaced_duration(expected: &[&str], rest: &str, token_len: usize) -> Option<St
         .take_while(char::is_ascii_alphabetic)
         .collect();
     let spaced = after.starts_with([' ', '\t']);
-    let is_unit = matches!(unit.as_str(), "ns" | "us" | "ms" | "s" | "min");
+    let is_unit = crate::literal::unit_ns(&unit).is_some();
     let is_number = number.chars().all(|c| c.is_ascii_digit() || c == '.');
     (spaced && is_unit && is_number)
         .then(|| format!("write the number and its unit together: `{number}{unit}`"))

@@ -6,7 +6,8 @@
 //!
 //! - [`load()`]`(path, &Genom3Options) -> Result<Genom3Return, LoadError>`:
 //!   the whole pipeline on the file system (fails only when `path` itself
-//!   cannot be read). [`load_with`] takes a [`Loader`] and the text.
+//!   cannot be read). [`load_text`] takes the text already read,
+//!   [`load_with`] a [`Loader`] and the text.
 //! - [`Genom3Options`]: `include_dirs` (the `-I` folders, in order),
 //!   `use_env_include_path` (also search `GENOM_INCLUDE_PATH`; on by
 //!   default), `wcet_file`.
@@ -136,6 +137,17 @@ impl Genom3Options {
 /// Loads a GenoM3 file from the file system.
 pub fn load(path: &Path, options: &Genom3Options) -> Result<Genom3Return, LoadError> {
     let text = FsLoader.load(path)?;
+    load_text(path, text, options)
+}
+
+/// [`load`] of a file already read as `text` (includes and the WCET file
+/// still come from the file system). Fails only when the WCET file cannot
+/// be read.
+pub fn load_text(
+    path: &Path,
+    text: String,
+    options: &Genom3Options,
+) -> Result<Genom3Return, LoadError> {
     let mut out = load_with(path, text, &options.search_path(), &FsLoader);
     if let Some(wcet_path) = &options.wcet_file {
         let text = FsLoader.load(wcet_path)?;

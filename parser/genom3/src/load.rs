@@ -238,6 +238,6 @@ fn normalise(path: &Path) -> PathBuf {
 }
 
 fn display_dir(p: &Path) -> String {
-    let s = p.to_string_lossy().replace('\\', "/");
+    let s = genom_model::span::display_path(p);
     if s.is_empty() { ".".to_owned() } else { s }
 }

@@ -134,8 +134,9 @@ pub fn explore<M: Model>(
     let mut next: usize = 0;
     let mut stopped = None;
     let mut reduced = 0u64;
+    let period = model.limit_period();
     'expansions: while next < store.len() {
-        stopped = check_limits(&store, limits, next, model.limit_period());
+        stopped = check_limits(&store, limits, next, period);
         if stopped.is_some() {
             break;
         }
@@ -168,7 +169,6 @@ pub fn explore<M: Model>(
                         visit(sid, &succ);
                     }
                     old_successor |= !new;
-                    let period = model.limit_period();
                     stopped = check_successor(&store, limits, new, transitions, period);
                     if stopped.is_some() {
                         break 'expansions;
