@@ -43,6 +43,19 @@ pub struct Cli {
     pub output: OutputArgs,
 }
 
+impl Cli {
+    /// The `--max-memory` of the command to run, if it has one.
+    pub fn max_memory(&self) -> Option<usize> {
+        match &self.command {
+            None => Some(self.check.max_memory),
+            Some(Command::Check(a)) => Some(a.max_memory),
+            Some(Command::Export(a)) => Some(a.max_memory),
+            Some(Command::Budget(a)) => Some(a.max_memory),
+            Some(Command::Explain(_) | Command::Generate(_)) => None,
+        }
+    }
+}
+
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -81,7 +94,7 @@ pub struct CheckArgs {
     #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
     pub timeout: Option<std::time::Duration>,
 
-    /// Stop exploring when state storage exceeds this size, e.g. `512M`, `4G` (then `incomplete`).
+    /// Bound the process's memory, e.g. `512M`, `4G` (then `incomplete`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
     pub max_memory: usize,
 
@@ -196,6 +209,10 @@ pub struct ExportArgs {
     /// Stop exploring after this long, e.g. `30s` (then `incomplete`).
     #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
     pub timeout: Option<std::time::Duration>,
+
+    /// Bound the process's memory, e.g. `512M`, `4G` (then `incomplete`).
+    #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
+    pub max_memory: usize,
 }
 
 /// Export formats.
@@ -257,7 +274,7 @@ pub struct BudgetArgs {
     #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
     pub timeout: Option<std::time::Duration>,
 
-    /// Stop each exploration when its state storage exceeds this size, e.g. `4G`.
+    /// Bound the process's memory, e.g. `4G` (then `incomplete`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
     pub max_memory: usize,
 }

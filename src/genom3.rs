@@ -27,6 +27,7 @@ pub(crate) fn check(
         include_dirs: inputs.include_dirs.clone(),
         use_env_include_path: true,
         wcet_file: inputs.wcet_file.clone(),
+        watch: options.watch(started),
     };
     // The checked file is read already: only the WCET file can fail.
     let mut front =

@@ -5,6 +5,7 @@
 
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
+mod allocator;
 mod cli;
 mod commands;
 mod terminal;
@@ -13,12 +14,18 @@ use std::process::ExitCode;
 
 use clap::Parser as _;
 
+#[global_allocator]
+static ALLOCATOR: allocator::Bounded = allocator::Bounded;
+
 /// Stack size of the worker thread: deep but legal inputs must never
 /// overflow the stack.
 const STACK_BYTES: usize = 256 * 1024 * 1024;
 
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
+    if let Some(bytes) = cli.max_memory() {
+        allocator::limit(bytes);
+    }
     let worker = std::thread::Builder::new()
         .stack_size(STACK_BYTES)
         .spawn(move || commands::run(cli));

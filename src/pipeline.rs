@@ -116,7 +116,7 @@ pub fn check_source(
     options: &CheckOptions,
 ) -> CheckResult {
     let started = Instant::now();
-    let front = genom_parser::lower_until(path, text, loader, options.deadline(started));
+    let front = genom_parser::lower_until(path, text, loader, options.watch(started));
     let verdicts = genom_checker::verify(
         front.model,
         front.has_component,

@@ -265,3 +265,26 @@ fn the_time_limit_bounds_every_phase_of_a_huge_component() {
         assert!(took.as_secs() < 120, "{took:?} for --timeout 2s {extra:?}");
     }
 }
+
+/// The GenoM3 front-end looks at the clock every 64 KiB too: a file of
+/// 200 KB of statements under `--timeout 1us` stops while parsing, with
+/// `incomplete` pointing into the file, and nothing is checked.
+#[test]
+fn the_time_limit_stops_a_genom3_file_while_parsing() {
+    let mut text = String::from("component c { lang \"c\"; };\n");
+    for i in 0..8000 {
+        text.push_str(&format!("const long c_{i} = {i};\n"));
+    }
+    assert!(text.len() > 150_000);
+    let (_dir, path) = file("big3.gen", text.as_bytes());
+    let (status, stdout, _) = run(&["--dialect", "genom3", "--timeout", "1us", &path]);
+    assert_eq!(status, 1, "{stdout}");
+    assert!(
+        stdout.contains("the time limit (--timeout) was reached while parsing"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("parsing stopped here"), "{stdout}");
+    // Without the limit the same file is clean: the stop came from it.
+    let (status, stdout, _) = run(&["--dialect", "genom3", "--static-only", &path]);
+    assert_eq!(status, 0, "{stdout}");
+}

@@ -5,6 +5,7 @@
 use std::time::{Duration, Instant};
 
 use genom_model::component::Component;
+use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic, Severity, Statistics, sort_diagnostics};
 
 use crate::engine::Limits;
@@ -78,6 +79,15 @@ impl CheckOptions {
     /// When a check started at `started` must stop (`--timeout`), if ever.
     pub fn deadline(&self, started: Instant) -> Option<Instant> {
         self.timeout.map(|t| started + t)
+    }
+
+    /// The limits of a check started at `started`, as every phase looks at
+    /// them.
+    pub fn watch(&self, started: Instant) -> Watch {
+        Watch {
+            deadline: self.deadline(started),
+            max_memory: self.max_memory,
+        }
     }
 
     /// Whether the behavioural engines run (not `--static-only`).

@@ -8,6 +8,7 @@ pub mod component;
 pub mod diagnostic;
 pub mod dialect;
 pub mod kinds;
+pub mod limits;
 pub mod loader;
 pub mod petri;
 pub mod render;

@@ -4,6 +4,7 @@
 //! whole nanoseconds or overflow).
 
 pub use genom_model::diagnostic::closest;
+use genom_model::limits::Limit;
 use genom_model::{Code, Diagnostic, Span};
 
 use crate::ast::Ident;
@@ -80,15 +81,9 @@ pub fn too_many_errors(span: Span, count: usize) -> Diagnostic {
     )
 }
 
-/// `incomplete`: the time limit passed while parsing; the rest was not read.
-pub fn time_limit(at: Span) -> Diagnostic {
-    Diagnostic::new(
-        Code::Incomplete,
-        "verification is incomplete: the time limit (--timeout) was reached while parsing",
-        at,
-        "parsing stopped here",
-    )
-    .with_help("nothing was checked: the rest of the file was not read; raise --timeout")
+/// `incomplete`: a limit passed while parsing; the rest was not read.
+pub fn limit_reached(at: Span, limit: Limit) -> Diagnostic {
+    genom_model::limits::parsing_stopped(at, limit)
 }
 
 /// `syntax`: a constant expression with more operators than the parser

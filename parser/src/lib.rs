@@ -21,9 +21,9 @@ mod syntax;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use genom_model::component::Component;
+use genom_model::limits::{Limit, Watch};
 use genom_model::span::display_path as display;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 use pest::Parser as _;
@@ -75,23 +75,24 @@ pub fn parse_file(path: &Path, loader: &dyn Loader) -> Result<ParserReturn, Load
 /// Parses already-loaded text as the checked file; includes go through
 /// `loader`.
 pub fn parse_source(path: &Path, text: String, loader: &dyn Loader) -> ParserReturn {
-    parse_source_until(path, text, loader, None)
+    parse_source_until(path, text, loader, Watch::unlimited())
 }
 
-/// [`parse_source`], stopping at `deadline` between two items: what is left
-/// is not read, and an `incomplete` error says where parsing stopped.
+/// [`parse_source`], stopping between two items once a limit of `watch`
+/// passes: what is left is not read, and an `incomplete` error says where
+/// parsing stopped.
 pub fn parse_source_until(
     path: &Path,
     text: String,
     loader: &dyn Loader,
-    deadline: Option<Instant>,
+    watch: Watch,
 ) -> ParserReturn {
     let mut session = Session {
         loader,
         out: ParserReturn::default(),
         stack: Vec::new(),
         loaded: BTreeMap::new(),
-        deadline,
+        watch,
         stopped: false,
     };
     let file = session.out.sources.add(path, text);
@@ -137,18 +138,13 @@ pub fn lower_file(path: &Path, loader: &dyn Loader) -> Result<LowerReturn, LoadE
 /// `loader`) and, when every file parsed completely, resolves it into the
 /// component model.
 pub fn lower(path: &Path, text: String, loader: &dyn Loader) -> LowerReturn {
-    lower_until(path, text, loader, None)
+    lower_until(path, text, loader, Watch::unlimited())
 }
 
-/// [`lower`], parsing until `deadline` at most (see
+/// [`lower`], parsing until a limit of `watch` passes at most (see
 /// [`parse_source_until`]); a stopped parse is not resolved.
-pub fn lower_until(
-    path: &Path,
-    text: String,
-    loader: &dyn Loader,
-    deadline: Option<Instant>,
-) -> LowerReturn {
-    let parsed = parse_source_until(path, text, loader, deadline);
+pub fn lower_until(path: &Path, text: String, loader: &dyn Loader, watch: Watch) -> LowerReturn {
+    let parsed = parse_source_until(path, text, loader, watch);
     let mut diagnostics = parsed.diagnostics.clone();
     let mut model = None;
     let mut has_component = false;
@@ -184,8 +180,9 @@ fn is_idl(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("idl"))
 }
 
-/// How much text is parsed between two looks at the clock: a file smaller
-/// than this is never cut by `--timeout` (parsing it takes milliseconds).
+/// How much text is parsed between two looks at the clock and the heap: a
+/// file smaller than this is never cut by `--timeout` (parsing it takes
+/// milliseconds).
 const CLOCK_BYTES: usize = 64 * 1024;
 
 struct Session<'l> {
@@ -195,9 +192,9 @@ struct Session<'l> {
     stack: Vec<(PathBuf, String)>,
     /// Files already loaded, by identity.
     loaded: BTreeMap<PathBuf, FileId>,
-    /// When to stop parsing (`--timeout`).
-    deadline: Option<Instant>,
-    /// The deadline passed: nothing more is parsed.
+    /// When to stop parsing (`--timeout`, `--max-memory`).
+    watch: Watch,
+    /// A limit passed: nothing more is parsed.
     stopped: bool,
 }
 
@@ -265,14 +262,16 @@ impl Session<'_> {
         Some(file)
     }
 
-    /// True once the deadline has passed (then for good). Looked at every
-    /// [`CLOCK_BYTES`] of text, so that a small file is always read whole.
-    fn out_of_time(&mut self) -> bool {
-        if !self.stopped && self.deadline.is_some_and(|d| Instant::now() >= d) {
-            self.stopped = true;
-            return true;
+    /// The limit that has just passed (then parsing stops for good).
+    /// Looked at every [`CLOCK_BYTES`] of text, so that a small file is
+    /// always read whole.
+    fn limit_passed(&mut self) -> Option<Limit> {
+        if self.stopped {
+            return None;
         }
-        false
+        let limit = self.watch.exceeded();
+        self.stopped = limit.is_some();
+        limit
     }
 
     /// Parses the items of one file, resuming after each syntax error.
@@ -300,9 +299,11 @@ impl Session<'_> {
         while pos <= text.len() {
             if pos >= next_look {
                 next_look = pos + CLOCK_BYTES;
-                if self.out_of_time() {
+                if let Some(limit) = self.limit_passed() {
                     let at = Span::point(base + to_u32(pos));
-                    self.out.diagnostics.push(diagnostics::time_limit(at));
+                    self.out
+                        .diagnostics
+                        .push(diagnostics::limit_reached(at, limit));
                     break;
                 }
             }

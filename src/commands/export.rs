@@ -19,7 +19,8 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
     let shown = genom_check::display(&args.file);
     let options = CheckOptions::new()
         .max_states(args.max_states)
-        .timeout(args.timeout);
+        .timeout(args.timeout)
+        .max_memory(args.max_memory);
     let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
         Ok(r) => r,
         Err(e) => {

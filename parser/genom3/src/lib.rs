@@ -58,6 +58,7 @@ pub mod wcet;
 use std::path::{Path, PathBuf};
 
 use genom_model::component::Component;
+use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 
 pub use detect::looks_like_genom3;
@@ -75,6 +76,9 @@ pub struct Genom3Options {
     pub use_env_include_path: bool,
     /// A WCET side file to apply to the component.
     pub wcet_file: Option<PathBuf>,
+    /// When to stop reading (`--timeout`, `--max-memory`): looked at every
+    /// 64 KiB of text.
+    pub watch: Watch,
 }
 
 impl Default for Genom3Options {
@@ -83,6 +87,7 @@ impl Default for Genom3Options {
             include_dirs: Vec::new(),
             use_env_include_path: true,
             wcet_file: None,
+            watch: Watch::unlimited(),
         }
     }
 }
@@ -114,7 +119,7 @@ impl Genom3Return {
         !self.diagnostics.iter().any(|d| {
             matches!(
                 d.code,
-                Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle
+                Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle | Code::Incomplete
             )
         })
     }
@@ -148,7 +153,8 @@ pub fn load_text(
     text: String,
     options: &Genom3Options,
 ) -> Result<Genom3Return, LoadError> {
-    let mut out = load_with(path, text, &options.search_path(), &FsLoader);
+    let search = options.search_path();
+    let mut out = load_watched(path, text, &search, &FsLoader, options.watch);
     if let Some(wcet_path) = &options.wcet_file {
         let text = FsLoader.load(wcet_path)?;
         add_wcet_file(&mut out, wcet_path, text);
@@ -178,12 +184,26 @@ pub fn load_with(
     search: &[PathBuf],
     loader: &dyn Loader,
 ) -> Genom3Return {
+    load_watched(path, text, search, loader, Watch::unlimited())
+}
+
+/// [`load_with`], reading until a limit of `watch` passes at most: the
+/// rest is not read, an `incomplete` error says where reading stopped, and
+/// nothing is lowered.
+pub fn load_watched(
+    path: &Path,
+    text: String,
+    search: &[PathBuf],
+    loader: &dyn Loader,
+    watch: Watch,
+) -> Genom3Return {
     let loaded = load::load_all(
         path,
         text,
         search,
         loader,
         &[(builtin::PATH, builtin::GENOM_GEN)],
+        watch,
     );
     let root = FileId(0);
     let builtin =
@@ -195,7 +215,7 @@ pub fn load_with(
     let complete = !diagnostics.iter().any(|d| {
         matches!(
             d.code,
-            Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle
+            Code::Syntax | Code::IncludeNotFound | Code::IncludeCycle | Code::Incomplete
         )
     });
     if complete {

@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use genom_model::limits::Watch;
 use genom_model::{Diagnostic, FileId, SourceMap, Span};
 use pest::Parser as _;
 
@@ -45,7 +46,15 @@ struct Session<'a> {
     /// Per file: its statements (with start offset) and its includes (offset,
     /// loaded file).
     files: BTreeMap<FileId, FileParts>,
+    /// The limits (`--timeout`, `--max-memory`).
+    watch: Watch,
+    /// A limit passed: nothing more is read.
+    stopped: bool,
 }
+
+/// How much text is parsed between two looks at the clock and the heap: a
+/// file smaller than this is always read whole.
+const CLOCK_BYTES: usize = 64 * 1024;
 
 #[derive(Default)]
 struct FileParts {
@@ -61,6 +70,7 @@ pub fn load_all(
     search: &[PathBuf],
     loader: &dyn Loader,
     extra: &[(&str, &str)],
+    watch: Watch,
 ) -> Loaded {
     let mut session = Session {
         loader,
@@ -68,6 +78,8 @@ pub fn load_all(
         out: Loaded::default(),
         stack: Vec::new(),
         files: BTreeMap::new(),
+        watch,
+        stopped: false,
     };
     let mut defines = preprocess::Macros::new();
     let root = session.out.sources.add(path, text);
@@ -178,7 +190,19 @@ impl Session<'_> {
         let mut out = Vec::new();
         let mut pos = 0usize;
         let mut errors = 0usize;
-        while pos < text.len() {
+        let mut next_look = CLOCK_BYTES;
+        while pos < text.len() && !self.stopped {
+            if pos >= next_look {
+                next_look = pos + CLOCK_BYTES;
+                if let Some(limit) = self.watch.exceeded() {
+                    self.stopped = true;
+                    let at = Span::point(base + u32::try_from(pos).unwrap_or(u32::MAX));
+                    self.out
+                        .diagnostics
+                        .push(genom_model::limits::parsing_stopped(at, limit));
+                    break;
+                }
+            }
             let rest = &text[pos..];
             let here = base + u32::try_from(pos).unwrap_or(u32::MAX);
             match Genom3Parser::parse(Rule::next_statement, rest) {

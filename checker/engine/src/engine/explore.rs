@@ -64,7 +64,8 @@ pub struct Limits {
     pub max_states: usize,
     /// Stop at this instant.
     pub deadline: Option<Instant>,
-    /// Stop when the store grows past this many bytes.
+    /// `--max-memory`: stop when the process's heap reaches its soft bound
+    /// ([`genom_model::limits::soft_bound`]) or the store grows past it.
     pub max_bytes: usize,
 }
 
@@ -212,7 +213,15 @@ fn check_limits<A: Copy, Z: Subsumes>(
     if limits.deadline.is_some_and(|d| Instant::now() >= d) {
         return Some(Stop::Time);
     }
-    (store.bytes() >= limits.max_bytes).then_some(Stop::Memory)
+    memory_exceeded(store, limits).then_some(Stop::Memory)
+}
+
+/// Whether the memory limit is reached: by the process's heap (counted by
+/// the binary's allocator, see [`genom_model::limits`]), or, where no
+/// allocator counts it, by this exploration's own storage.
+fn memory_exceeded<A: Copy, Z: Subsumes>(store: &Store<A, Z>, limits: Limits) -> bool {
+    store.bytes() >= limits.max_bytes
+        || genom_model::limits::heap::in_use() >= genom_model::limits::soft_bound(limits.max_bytes)
 }
 
 /// The limits checked while one state is expanded (a state of a large
@@ -236,7 +245,7 @@ fn check_successor<A: Copy, Z: Subsumes>(
     if limits.deadline.is_some_and(|d| Instant::now() >= d) {
         return Some(Stop::Time);
     }
-    (store.bytes() >= limits.max_bytes).then_some(Stop::Memory)
+    memory_exceeded(store, limits).then_some(Stop::Memory)
 }
 
 #[cfg(test)]

@@ -1,0 +1,164 @@
+//! Resource limits shared by every phase: a deadline (`--timeout`) and a
+//! memory bound (`--max-memory`), looked at by the parsers, the static
+//! phase and the engines through one [`Watch`].
+//!
+//! The memory measured is the process's heap in use, counted by the
+//! binary's global allocator into [`heap`]; a library used without that
+//! allocator (tests, fuzzing) sees 0 there, and the engines then fall back
+//! to the size of their own state storage. The allocator refuses to grow
+//! the heap past [`heap_bound`] (the process then stops with a one-line
+//! message), and the phases stop cleanly, with `incomplete`, once the heap
+//! reaches [`soft_bound`], a little below it: the resident size stays
+//! under `--max-memory` (the binary's code and stacks are the margin).
+
+use std::time::Instant;
+
+use crate::{Code, Diagnostic, Span};
+
+/// The live heap of the process, as counted by a global allocator that
+/// reports to it (the `genom-check` binary's).
+pub mod heap {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    static IN_USE: AtomicUsize = AtomicUsize::new(0);
+
+    /// Records `bytes` allocated; returns the heap in use after it.
+    pub fn allocated(bytes: usize) -> usize {
+        IN_USE
+            .fetch_add(bytes, Ordering::Relaxed)
+            .saturating_add(bytes)
+    }
+
+    /// Records `bytes` freed.
+    pub fn freed(bytes: usize) {
+        IN_USE.fetch_sub(bytes, Ordering::Relaxed);
+    }
+
+    /// Bytes of heap in use (0 when no counting allocator is installed).
+    pub fn in_use() -> usize {
+        IN_USE.load(Ordering::Relaxed)
+    }
+}
+
+/// The room left for the binary's code, stacks and the allocator's own
+/// overhead (freed memory it keeps): a quarter of the limit, at most
+/// 64 MiB.
+fn margin(max_memory: usize) -> usize {
+    (max_memory / 4).min(64 << 20)
+}
+
+/// The heap size past which the allocator refuses to grow (and the
+/// process stops): `max_memory` less a margin for what is not heap.
+pub fn heap_bound(max_memory: usize) -> usize {
+    max_memory - margin(max_memory)
+}
+
+/// The heap size at which the phases stop cleanly with `incomplete`: seven
+/// eighths of [`heap_bound`], so that the step in progress (a vector that
+/// doubles, a zone) still fits under it.
+pub fn soft_bound(max_memory: usize) -> usize {
+    let hard = heap_bound(max_memory);
+    hard - hard / 8
+}
+
+/// Which limit stopped a phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// `--timeout` passed.
+    Time,
+    /// The heap reached [`soft_bound`] of `--max-memory`.
+    Memory,
+}
+
+impl Limit {
+    /// How a message names it: `time limit (--timeout)`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Limit::Time => "time limit (--timeout)",
+            Limit::Memory => "memory limit (--max-memory)",
+        }
+    }
+}
+
+/// A deadline and a memory bound, looked at between two steps of a phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Watch {
+    /// When to stop.
+    pub deadline: Option<Instant>,
+    /// `--max-memory`, in bytes.
+    pub max_memory: usize,
+}
+
+impl Default for Watch {
+    fn default() -> Self {
+        Watch::unlimited()
+    }
+}
+
+impl Watch {
+    /// No deadline and no memory bound.
+    pub fn unlimited() -> Self {
+        Watch {
+            deadline: None,
+            max_memory: usize::MAX,
+        }
+    }
+
+    /// The limit passed, if any: time first, then the process's heap.
+    pub fn exceeded(&self) -> Option<Limit> {
+        if self.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Some(Limit::Time);
+        }
+        self.heap_exceeded().then_some(Limit::Memory)
+    }
+
+    /// Whether the process's heap reached [`soft_bound`].
+    pub fn heap_exceeded(&self) -> bool {
+        heap::in_use() >= soft_bound(self.max_memory)
+    }
+}
+
+/// `incomplete`: `limit` passed while a front-end was parsing, at `at`;
+/// the rest of the text was not read and nothing was checked.
+pub fn parsing_stopped(at: Span, limit: Limit) -> Diagnostic {
+    let raise = match limit {
+        Limit::Time => "--timeout",
+        Limit::Memory => "--max-memory",
+    };
+    Diagnostic::new(
+        Code::Incomplete,
+        format!(
+            "verification is incomplete: the {} was reached while parsing",
+            limit.describe()
+        ),
+        at,
+        "parsing stopped here",
+    )
+    .with_help(format!(
+        "nothing was checked: the rest of the file was not read; raise {raise}"
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_leave_a_margin_and_stop_softly_first() {
+        let m = 200 << 20;
+        assert_eq!(heap_bound(m), 150 << 20);
+        assert!(soft_bound(m) < heap_bound(m));
+        assert_eq!(heap_bound(8 << 30), (8 << 30) - (64 << 20));
+        assert_eq!(heap_bound(0), 0);
+    }
+
+    #[test]
+    fn an_unlimited_watch_never_stops_and_a_past_deadline_does() {
+        assert_eq!(Watch::unlimited().exceeded(), None);
+        let past = Watch {
+            deadline: Some(Instant::now()),
+            max_memory: usize::MAX,
+        };
+        assert_eq!(past.exceeded(), Some(Limit::Time));
+    }
+}
