@@ -79,85 +79,65 @@ fn huge_component(dir: &Path) -> String {
     path.to_string_lossy().into_owned()
 }
 
-fn assert_within(run: &Run, limit_mib: u64, what: &str) {
+/// Runs the binary with `args` and checks its exit `status`, that `needle`
+/// is in its stdout or stderr, and that its peak resident size stayed
+/// within `limit_mib`.
+fn expect(dir: &Path, args: &[&str], status: i32, needle: &str, limit_mib: u64) {
+    let what = args.join(" ");
+    let r = run(dir, args);
+    assert_eq!(r.status, status, "{what}: {}{}", r.stdout, r.stderr);
     assert!(
-        run.peak > 0 && run.peak <= limit_mib * MIB,
+        r.stdout.contains(needle) || r.stderr.contains(needle),
+        "{what}: `{needle}` not in\n{}{}",
+        r.stdout,
+        r.stderr
+    );
+    assert!(
+        r.peak > 0 && r.peak <= limit_mib * MIB,
         "{what}: peak resident size {} MiB, limit {limit_mib} MiB",
-        run.peak / MIB
+        r.peak / MIB
     );
     // A generous bound: the limits stop every phase well before this.
-    assert!(
-        run.took < Duration::from_secs(300),
-        "{what}: {:?}",
-        run.took
-    );
+    assert!(r.took < Duration::from_secs(300), "{what}: {:?}", r.took);
 }
 
 #[test]
 fn the_process_stays_within_max_memory_on_hostile_and_huge_inputs() {
     let dir = tempfile::tempdir().unwrap();
-    let limits = ["--timeout", "2s", "--max-memory", "200M"];
+    let d = dir.path();
+    fn with_limits(file: &str) -> Vec<&str> {
+        vec!["--timeout", "2s", "--max-memory", "200M", file]
+    }
 
     // A device: refused at once.
-    let zero = run(dir.path(), &[&limits[..], &["/dev/zero"]].concat());
-    assert_eq!(zero.status, 2, "{}", zero.stderr);
-    assert!(
-        zero.stderr.contains("not a regular file"),
-        "{}",
-        zero.stderr
-    );
-    assert_within(&zero, 200, "/dev/zero");
+    expect(d, &with_limits("/dev/zero"), 2, "not a regular file", 200);
 
     // A FIFO: refused at once, never opened for reading (that would block).
-    let fifo = dir.path().join("f.gen");
-    if Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .is_ok_and(|s| s.success())
-    {
-        let r = run(
-            dir.path(),
-            &[&limits[..], &[fifo.to_str().unwrap()]].concat(),
-        );
-        assert_eq!(r.status, 2, "{}", r.stderr);
-        assert_within(&r, 200, "a FIFO");
+    let fifo = d.join("f.gen");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        let args = with_limits(fifo.to_str().unwrap());
+        expect(d, &args, 2, "not a regular file", 200);
     }
 
     // The 10 MB component: time and memory stop it, with `incomplete`.
-    let big = huge_component(dir.path());
-    let r = run(dir.path(), &[&limits[..], &[big.as_str()]].concat());
-    assert_eq!(r.status, 1, "{}", r.stderr);
-    assert!(
-        r.stdout.contains("verification is incomplete"),
-        "{}",
-        r.stdout
-    );
-    assert_within(&r, 200, "the 10 MB component, --timeout 2s");
+    let big = huge_component(d);
+    expect(d, &with_limits(&big), 1, "verification is incomplete", 200);
 
     // Without a time limit, the memory limit alone stops it, by name.
-    let r = run(dir.path(), &["--max-memory", "100M", big.as_str()]);
-    assert_eq!(r.status, 1, "{}", r.stderr);
-    assert!(
-        r.stdout
-            .contains("the memory limit (--max-memory) was reached"),
-        "{}",
-        r.stdout
+    let args = ["--max-memory", "100M", big.as_str()];
+    expect(
+        d,
+        &args,
+        1,
+        "the memory limit (--max-memory) was reached",
+        100,
     );
-    assert_within(&r, 100, "the 10 MB component, --max-memory 100M");
 
     // One step larger than the whole limit (reading a 120 MB file under
     // 100M): no phase can stop cleanly, the process ends at once.
-    let wide = dir.path().join("wide.gen");
+    let wide = d.join("wide.gen");
     std::fs::write(&wide, vec![b' '; 120 << 20]).unwrap();
-    let r = run(
-        dir.path(),
-        &["--max-memory", "100M", wide.to_str().unwrap()],
-    );
-    assert_eq!(r.status, 1, "{}", r.stderr);
-    assert!(
-        r.stderr.contains("memory limit (--max-memory)"),
-        "{}",
-        r.stderr
-    );
-    assert_within(&r, 100, "a 120 MB file under --max-memory 100M");
+    let args = ["--max-memory", "100M", wide.to_str().unwrap()];
+    expect(d, &args, 1, "memory limit (--max-memory)", 100);
 }

@@ -7,32 +7,16 @@
 
 mod common;
 
+use common::export;
+
 use std::collections::BTreeSet;
 use std::io::Write as _;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-use genom_check::CheckResult;
-use genom_export::{ExportInput, Format, Verification};
+use genom_export::Format;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
-
-fn export(result: &CheckResult, format: Format) -> String {
-    let component = result.component.as_ref().expect("spec has a component");
-    let verification = Verification {
-        verified: true,
-        tool_version: "0.0.0-test".to_owned(),
-        ..Verification::default()
-    };
-    let input = ExportInput {
-        component,
-        sources: &result.sources,
-        verification: &verification,
-    };
-    genom_export::export(format, &input)
-        .expect("export succeeds")
-        .main
-}
 
 fn stem(path: &Path) -> String {
     path.file_stem()

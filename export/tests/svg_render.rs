@@ -17,31 +17,16 @@
 
 mod common;
 
+use common::export;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
 use genom_check::CheckResult;
-use genom_export::{ExportInput, Format, Verification};
+use genom_export::Format;
 use resvg::tiny_skia;
 use resvg::usvg;
-
-fn export_svg(result: &CheckResult) -> String {
-    let component = result.component.as_ref().expect("spec has a component");
-    let verification = Verification {
-        verified: true,
-        tool_version: "0.0.0-test".to_owned(),
-        ..Verification::default()
-    };
-    let input = ExportInput {
-        component,
-        sources: &result.sources,
-        verification: &verification,
-    };
-    genom_export::export(Format::Svg, &input)
-        .expect("export succeeds")
-        .main
-}
 
 /// The system fonts, with the generic `sans-serif` family mapped to an
 /// installed sans-serif font.
@@ -294,7 +279,7 @@ fn svg_pictures_render_with_coloured_heads_and_thread_clusters() {
     for path in common::specs() {
         let name = path.display().to_string();
         let result = common::check(&path);
-        let svg = export_svg(&result);
+        let svg = export(&result, Format::Svg);
         let tree = parse(&svg, &fonts);
         let mut scene = Scene::default();
         collect(tree.root(), &mut scene);
@@ -322,7 +307,7 @@ fn svg_texts_stay_inside_their_boxes() {
     for path in common::specs() {
         let name = path.display().to_string();
         let result = common::check(&path);
-        let svg = export_svg(&result);
+        let svg = export(&result, Format::Svg);
         let mut scene = Scene::default();
         collect(parse(&svg, &fonts).root(), &mut scene);
         let written = svg.matches("<text ").count();
@@ -337,7 +322,7 @@ fn svg_texts_stay_inside_their_boxes() {
 fn the_checks_catch_broken_pictures() {
     let fonts = fonts();
     let result = common::check(Path::new("../specs/mobileBase.gen"));
-    let svg = export_svg(&result);
+    let svg = export(&result, Format::Svg);
     let expected = expected_clusters(&result);
     let scene_of = |svg: &str| {
         let mut scene = Scene::default();

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, check_file};
+use genom_export::{ExportInput, Format, Verification};
 use genom_parser::FsLoader;
 
 /// Every `.gen` file of `specs/`, sorted, as a path relative to this crate
@@ -25,4 +26,22 @@ pub fn specs() -> Vec<PathBuf> {
 /// The full check of `path` with the default options.
 pub fn check(path: &Path) -> CheckResult {
     check_file(path, &FsLoader, &CheckOptions::new()).expect("spec is readable")
+}
+
+/// The main file of the `format` export of a checked spec, marked verified.
+pub fn export(result: &CheckResult, format: Format) -> String {
+    let component = result.component.as_ref().expect("spec has a component");
+    let verification = Verification {
+        verified: true,
+        tool_version: "0.0.0-test".to_owned(),
+        ..Verification::default()
+    };
+    let input = ExportInput {
+        component,
+        sources: &result.sources,
+        verification: &verification,
+    };
+    genom_export::export(format, &input)
+        .expect("export succeeds")
+        .main
 }
