@@ -366,6 +366,9 @@ pub enum Format {
     Human,
     /// One JSON document on stdout (see docs/json-format.md).
     Json,
+    /// GitHub Actions workflow commands: annotations on the pull request's
+    /// lines (see docs/ci.md).
+    Github,
 }
 
 /// What `--deny` can make fatal.

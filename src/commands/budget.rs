@@ -37,7 +37,7 @@ mod with_smt {
     };
     use genom_model::component::{CodelId, Component};
     use genom_model::render::human::format_ns;
-    use genom_model::render::{FileReport, human, json};
+    use genom_model::render::{FileReport, github, human, json};
     use genom_model::{Code, Dialect, Severity};
     use serde_json::{Value, json};
 
@@ -91,7 +91,10 @@ mod with_smt {
             }
         };
         match output.format {
-            Format::Human => terminal::emit(&table(&shown, component, &found, args)),
+            // Budgets are a table, not diagnostics: GitHub gets it as text.
+            Format::Human | Format::Github => {
+                terminal::emit(&table(&shown, component, &found, args));
+            }
             Format::Json => terminal::emit(&(to_json(&shown, component, &found) + "\n")),
         }
         exit_status(&found)
@@ -146,6 +149,10 @@ mod with_smt {
         };
         match output.format {
             Format::Json => terminal::emit(&(json::render(&[report]) + "\n")),
+            Format::Github => {
+                let summary = [human::render_summary(shown, report.counts())];
+                terminal::emit(&github::render(&[report], Some(&summary)));
+            }
             Format::Human => {
                 let options = human::HumanOptions {
                     color: terminal::use_color(output.color),

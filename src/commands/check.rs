@@ -2,7 +2,7 @@
 //! (human or JSON), then returns the exit status.
 
 use genom_check::{CheckOptions, CheckResult, display};
-use genom_model::render::{FileReport, human, json};
+use genom_model::render::{FileReport, github, human, json};
 use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -36,6 +36,7 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
     match output.format {
         Format::Human => print_human(&reports, output),
         Format::Json => terminal::emit(&(json::render_with_unread(&reports, &unread) + "\n")),
+        Format::Github => print_github(&reports, output),
     }
     exit_status(&reports, output.deny, !unread.is_empty())
 }
@@ -56,6 +57,46 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
             terminal::emit(&(summary_line(report) + "\n"));
         }
     }
+    if !output.quiet && reports.len() > 1 {
+        terminal::emit(&(human::render_total(total(reports), reports.len()) + "\n"));
+    }
+}
+
+/// GitHub annotations (advice and summaries left out with `--quiet`).
+fn print_github(reports: &[FileReport<'_>], output: &OutputArgs) {
+    let kept: Vec<Vec<genom_model::Diagnostic>> = reports
+        .iter()
+        .map(|r| {
+            r.diagnostics
+                .iter()
+                .filter(|d| !(output.quiet && d.severity == Severity::Advice))
+                .cloned()
+                .collect()
+        })
+        .collect();
+    let shown: Vec<FileReport<'_>> = reports
+        .iter()
+        .zip(&kept)
+        .map(|(r, d)| FileReport {
+            diagnostics: d,
+            ..*r
+        })
+        .collect();
+    if output.quiet {
+        terminal::emit(&github::render(&shown, None));
+    } else {
+        let summaries: Vec<String> = reports.iter().map(summary_line).collect();
+        terminal::emit(&github::render(&shown, Some(&summaries)));
+    }
+}
+
+/// The counts over every report.
+fn total(reports: &[FileReport<'_>]) -> Counts {
+    let mut total = Counts::default();
+    for r in reports {
+        total.merge(r.counts());
+    }
+    total
 }
 
 /// The summary line of one file: counts, then the exploration figures.

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{human, json};
+use genom_model::render::{github, human, json};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -145,8 +145,13 @@ fn reasons(v: &Verification, denied: bool) -> String {
 /// The check's report, as `check` prints it (human or JSON).
 fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bool) -> String {
     let report = result.report(shown);
-    if output.format == ReportFormat::Json {
-        return json::render(std::slice::from_ref(&report)) + "\n";
+    match output.format {
+        ReportFormat::Json => return json::render(std::slice::from_ref(&report)) + "\n",
+        ReportFormat::Github => {
+            let summary = [super::check::summary_line(&report)];
+            return github::render(std::slice::from_ref(&report), Some(&summary));
+        }
+        ReportFormat::Human => {}
     }
     let options = human::HumanOptions {
         color,

@@ -75,6 +75,20 @@ pub fn render_summary(path: &str, counts: Counts) -> String {
     )
 }
 
+/// The grand total over the files of one run, as ruff prints it:
+/// `Found 1 error, 2 warnings, 0 advice in 3 files.`
+pub fn render_total(counts: Counts, files: usize) -> String {
+    format!(
+        "Found {} {}, {} {}, {} advice in {files} {}.",
+        counts.errors,
+        plural(counts.errors, "error"),
+        counts.warnings,
+        plural(counts.warnings, "warning"),
+        counts.advice,
+        plural(files, "file")
+    )
+}
+
 fn plural(n: usize, word: &str) -> String {
     if n == 1 {
         word.to_owned()

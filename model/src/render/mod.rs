@@ -1,9 +1,10 @@
 //! Rendering of diagnostics, the one place where a [`Diagnostic`] becomes
-//! text: graphical reports with miette ([`human`]) and the versioned JSON
-//! document ([`json`]). Rendering returns strings; only the binary prints.
+//! text: graphical reports with miette ([`human`]), the versioned JSON
+//! document ([`json`]) and GitHub Actions annotations ([`github`]). Rendering returns strings; only the binary prints.
 //!
 //! [`Diagnostic`]: crate::Diagnostic
 
+pub mod github;
 pub mod human;
 pub mod json;
 

@@ -1,0 +1,153 @@
+//! GitHub Actions output (`--format github`): one workflow command per
+//! diagnostic, which GitHub shows as an annotation on the line of the pull
+//! request (`::error file=F,line=L,col=C,endLine=L2,endColumn=C2,title=CODE::MESSAGE`).
+//! Errors are `error`, warnings `warning`, advice `notice`; the message
+//! carries the help and the steps of the trace on further lines (encoded,
+//! as the workflow-command syntax asks). The location is the primary
+//! label's, in the file it points into (an included file too). A file's
+//! summary line follows its annotations, and the grand total ends the
+//! output.
+
+use std::fmt::Write as _;
+
+use super::FileReport;
+use super::json::location;
+use crate::diagnostic::{Counts, Diagnostic, Severity};
+use crate::span::SourceMap;
+
+/// Renders the annotations of every report and, given `summaries` (one per
+/// report), each file's summary line and the grand total.
+pub fn render(reports: &[FileReport<'_>], summaries: Option<&[String]>) -> String {
+    let mut out = String::new();
+    let mut total = Counts::default();
+    for (i, report) in reports.iter().enumerate() {
+        for d in report.diagnostics {
+            out.push_str(&annotation(report.sources, d));
+            out.push('\n');
+        }
+        if let Some(line) = summaries.and_then(|s| s.get(i)) {
+            out.push_str(line);
+            out.push('\n');
+        }
+        total.merge(report.counts());
+    }
+    if summaries.is_some() {
+        out.push_str(&super::human::render_total(total, reports.len()));
+        out.push('\n');
+    }
+    out
+}
+
+/// The workflow command of one diagnostic.
+pub fn annotation(sources: &SourceMap, d: &Diagnostic) -> String {
+    let command = match d.severity {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+        Severity::Advice => "notice",
+    };
+    let start = location(sources, d.span());
+    let end_span = d.span();
+    let end = location(
+        sources,
+        crate::Span::point(end_span.end.max(end_span.start)),
+    );
+    let mut props = format!(
+        "file={},line={},col={}",
+        property(&start.file),
+        start.line,
+        start.column
+    );
+    if end.file == start.file && end.line >= start.line {
+        let _ = write!(props, ",endLine={},endColumn={}", end.line, end.column);
+    }
+    let _ = write!(props, ",title={}", property(d.code.as_str()));
+    format!("::{command} {props}::{}", data(&message(sources, d)))
+}
+
+/// The text of the annotation: the message, the help, the trace's steps.
+fn message(sources: &SourceMap, d: &Diagnostic) -> String {
+    let mut text = d.message.clone();
+    if let Some(help) = &d.help {
+        let _ = write!(text, "\nhelp: {help}");
+    }
+    if let Some(trace) = &d.trace {
+        text.push_str("\ntrace:");
+        for (i, step) in trace.steps.iter().enumerate() {
+            let at = step.span.map(|s| location(sources, s));
+            let at = at.map_or(String::new(), |l| format!(" ({}:{})", l.file, l.line));
+            let _ = write!(text, "\n  {}. {}{at}", i + 1, step.text);
+        }
+    }
+    text
+}
+
+/// Encodes a command's data (the message) as the runner decodes it.
+fn data(text: &str) -> String {
+    text.replace('%', "%25")
+        .replace('\r', "%0D")
+        .replace('\n', "%0A")
+}
+
+/// Encodes a property value (file, title): data encoding plus `:` and `,`.
+fn property(text: &str) -> String {
+    data(text).replace(':', "%3A").replace(',', "%2C")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Code;
+    use crate::span::Span;
+
+    fn sources() -> SourceMap {
+        let mut s = SourceMap::new();
+        s.add("a,b.gen", "component c {\n  x: y;\n}\n".to_owned());
+        s
+    }
+
+    #[test]
+    fn an_annotation_points_at_the_primary_label_and_encodes_its_text() {
+        let s = sources();
+        let d = Diagnostic::new(
+            Code::UnknownData,
+            "unknown `y`: 100%",
+            Span::new(19, 20),
+            "here",
+        )
+        .with_help("declare it\nfirst");
+        assert_eq!(
+            annotation(&s, &d),
+            "::error file=a%2Cb.gen,line=2,col=6,endLine=2,endColumn=7,title=unknown-data::\
+             unknown `y`: 100%25%0Ahelp: declare it%0Afirst"
+        );
+    }
+
+    #[test]
+    fn advice_is_a_notice_and_the_total_ends_the_output() {
+        let s = sources();
+        let d = Diagnostic::new(Code::UnknownData, "m", Span::new(0, 9), "l");
+        let advice = Diagnostic {
+            severity: Severity::Advice,
+            ..d.clone()
+        };
+        let diagnostics = [d, advice];
+        let report = FileReport {
+            path: "a.gen",
+            sources: &s,
+            diagnostics: &diagnostics,
+            statistics: None,
+            dialect: crate::Dialect::Gen,
+            pragmas: &[],
+        };
+        let summary = ["a.gen: 1 error, 0 warnings, 1 advice".to_owned()];
+        let out = render(&[report], Some(&summary));
+        let lines: Vec<&str> = out.lines().collect();
+        assert!(
+            lines[0].starts_with("::error file=a%2Cb.gen,line=1,col=1,"),
+            "{out}"
+        );
+        assert!(lines[1].starts_with("::notice "), "{out}");
+        assert_eq!(lines[2], "a.gen: 1 error, 0 warnings, 1 advice");
+        assert_eq!(lines[3], "Found 1 error, 0 warnings, 1 advice in 1 file.");
+    }
+}
