@@ -26,7 +26,6 @@ Exit status: 0 no error, 1 errors (or warnings with --deny warnings),
     version,
     about,
     after_help = EXAMPLES,
-    args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true
 )]
 pub struct Cli {
@@ -51,7 +50,12 @@ impl Cli {
             Some(Command::Check(a)) => Some(a.max_memory),
             Some(Command::Export(a)) => Some(a.max_memory),
             Some(Command::Budget(a)) => Some(a.max_memory),
-            Some(Command::Explain(_) | Command::Generate(_)) => None,
+            Some(
+                Command::Explain(_)
+                | Command::Generate(_)
+                | Command::Completions(_)
+                | Command::Manpage,
+            ) => None,
         }
     }
 }
@@ -73,12 +77,24 @@ pub enum Command {
     /// factor of all WCETs, that keep the component free of errors (needs the `smt`
     /// feature).
     Budget(BudgetArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(CompletionsArgs),
+    /// Print the manual page (roff), e.g. `genom-check manpage > genom-check.1`.
+    Manpage,
+}
+
+/// Arguments of `completions`.
+#[derive(Debug, Clone, Args)]
+pub struct CompletionsArgs {
+    /// The shell.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
 }
 
 /// Arguments of `check`.
 #[derive(Debug, Clone, Args)]
 pub struct CheckArgs {
-    /// Component description files (`.gen`).
+    /// Component description files (`.gen`); `-` reads standard input.
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
 

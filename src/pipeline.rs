@@ -11,7 +11,24 @@ use genom_parser::{FsLoader, LoadError, Loader};
 
 pub use genom_checker::CheckOptions;
 /// A path as shown to people (forward slashes).
-pub use genom_model::span::display_path as display;
+/// How a path given by the user is shown: `/`-separated, and `-` (standard
+/// input) as `<stdin>`.
+pub fn display(path: &Path) -> String {
+    if is_stdin(path) {
+        STDIN_NAME.to_owned()
+    } else {
+        genom_model::span::display_path(path)
+    }
+}
+
+/// The name the text read from standard input is checked under (its
+/// includes are searched from the current folder).
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// Whether `path` is `-`: standard input.
+pub fn is_stdin(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
 
 /// Everything a check found about one file.
 #[derive(Debug, Clone)]
@@ -72,10 +89,20 @@ pub fn check_path(
     inputs: &Inputs,
     options: &CheckOptions,
 ) -> Result<CheckResult, InputError> {
-    let text = FsLoader.load(path).map_err(|error| InputError::Read {
+    let read = if is_stdin(path) {
+        genom_model::loader::read_bounded(std::io::stdin().lock())
+    } else {
+        FsLoader.load(path)
+    };
+    let text = read.map_err(|error| InputError::Read {
         path: display(path),
         error,
     })?;
+    let path = if is_stdin(path) {
+        Path::new(STDIN_NAME)
+    } else {
+        path
+    };
     let dialect = inputs.dialect.unwrap_or_else(|| detect(&text));
     match dialect {
         Dialect::Gen if inputs.wcet_file.is_some() => Err(InputError::WcetNeedsGenom3 {

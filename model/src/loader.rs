@@ -48,6 +48,20 @@ pub trait Loader {
     }
 }
 
+/// Reads a whole text from `reader`, at most [`MAX_FILE_BYTES`].
+pub fn read_bounded(reader: impl Read) -> Result<String, LoadError> {
+    let mut bytes = Vec::new();
+    reader
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| io_error(&e))?;
+    let read = u64::try_from(bytes.len()).unwrap_or(u64::MAX);
+    if read > MAX_FILE_BYTES {
+        return Err(LoadError::TooLarge(read));
+    }
+    String::from_utf8(bytes).map_err(|_| LoadError::NotUtf8)
+}
+
 /// Reads from the file system.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct FsLoader;
@@ -66,15 +80,7 @@ impl Loader for FsLoader {
         }
         // Bounded even if the file grows while it is read.
         let file = std::fs::File::open(path).map_err(|e| io_error(&e))?;
-        let mut bytes = Vec::new();
-        file.take(MAX_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(|e| io_error(&e))?;
-        let read = u64::try_from(bytes.len()).unwrap_or(u64::MAX);
-        if read > MAX_FILE_BYTES {
-            return Err(LoadError::TooLarge(read));
-        }
-        String::from_utf8(bytes).map_err(|_| LoadError::NotUtf8)
+        read_bounded(file)
     }
 
     fn identity(&self, path: &Path) -> PathBuf {

@@ -21,7 +21,10 @@ pub fn run(args: &ExplainArgs) -> u8 {
             let hint = genom_parser::diagnostics::closest(&args.code, known.iter().copied())
                 .map(|c| format!(" (did you mean `{c}`?)"))
                 .unwrap_or_default();
-            eprintln!("error: {e}{hint}; known codes: {}", known.join(", "));
+            eprintln!("error: {e}{hint}; the known codes are:");
+            for code in known {
+                eprintln!("  {code}");
+            }
             EXIT_USAGE
         }
     }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{github, human, json};
+use genom_model::render::{FileReport, github, human, json};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -41,7 +41,15 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
         verification: &verification,
     };
     match genom_export::export(format(args.target), &input) {
-        Ok(exported) => write(args, &exported),
+        Ok(exported) => {
+            let status = write(args, &exported);
+            if status == EXIT_OK && !output.quiet {
+                // An unverified export had its whole report on stderr.
+                let summary = verification.verified.then(|| result.report(&shown));
+                report_written(args, &exported, summary.as_ref());
+            }
+            status
+        }
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS
@@ -191,6 +199,25 @@ fn write(args: &ExportArgs, exported: &genom_export::Exported) -> u8 {
         }
     }
     EXIT_OK
+}
+
+/// Says on stderr (stdout may carry the export) what was written and the
+/// verdict it rests on, as `check` prints it.
+fn report_written(
+    args: &ExportArgs,
+    exported: &genom_export::Exported,
+    report: Option<&FileReport<'_>>,
+) {
+    if let Some(path) = &args.output {
+        let mut files = vec![format!("`{}`", path.display())];
+        for (suffix, _) in &exported.extra {
+            files.push(format!("`{}`", companion(path, suffix).display()));
+        }
+        eprintln!("wrote {}", files.join(" and "));
+    }
+    if let Some(report) = report {
+        eprintln!("{}", super::check::summary_line(report));
+    }
 }
 
 /// `model.xml` + `.q` → `model.q`.

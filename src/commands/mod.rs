@@ -2,6 +2,7 @@
 
 mod budget;
 mod check;
+mod documents;
 mod explain;
 mod export;
 mod generate;
@@ -23,6 +24,8 @@ pub fn run(cli: Cli) -> u8 {
         Some(Command::Export(args)) => export::run(&args, &cli.output),
         Some(Command::Generate(args)) => generate::run(&args),
         Some(Command::Budget(args)) => budget::run(&args, &cli.output),
+        Some(Command::Completions(args)) => documents::completions(&args),
+        Some(Command::Manpage) => documents::manpage(),
         None => check::run(&cli.check, &cli.output),
     }
 }
