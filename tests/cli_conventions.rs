@@ -130,3 +130,32 @@ fn export_says_what_it_wrote_and_the_verdict() {
     let (_, _, stderr) = run(genom_check().args(["export", "config", "--quiet", SELF_CONTAINED]));
     assert!(stderr.is_empty(), "{stderr}");
 }
+
+#[test]
+fn human_reports_say_once_how_to_learn_more_about_a_code() {
+    let (status, stdout, _) = run(genom_check().args([
+        "--static-only",
+        INVALID,
+        "tests/fixtures/invalid/duplicate-definition.two-services.gen",
+    ]));
+    assert_eq!(status, 1);
+    let hints: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("For more information"))
+        .collect();
+    assert_eq!(
+        hints,
+        [
+            "For more information about a code, run `genom-check explain CODE`, e.g. `genom-check explain syntax`."
+        ],
+        "{stdout}"
+    );
+    // One code only: named; --quiet: none.
+    let (_, stdout, _) = run(genom_check().args(["--static-only", INVALID]));
+    assert!(
+        stdout.contains("For more information about `syntax`, run `genom-check explain syntax`."),
+        "{stdout}"
+    );
+    let (_, stdout, _) = run(genom_check().args(["--quiet", "--static-only", INVALID]));
+    assert!(!stdout.contains("For more information"), "{stdout}");
+}

@@ -34,10 +34,15 @@ fn run(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-/// A human report without its last line (the summary, which carries the
-/// check's duration).
+/// A human report without its summary line (which carries the check's
+/// duration) and the `explain` hint after it.
 fn without_summary(report: &str) -> &str {
-    let trimmed = report.trim_end_matches('\n');
+    let mut trimmed = report.trim_end_matches('\n');
+    if let Some((body, last)) = trimmed.rsplit_once('\n') {
+        if last.starts_with("For more information") {
+            trimmed = body;
+        }
+    }
     trimmed.rsplit_once('\n').map_or("", |(body, _)| body)
 }
 

@@ -57,9 +57,33 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
             terminal::emit(&(summary_line(report) + "\n"));
         }
     }
+    if !output.quiet {
+        if let Some(hint) = explain_hint(reports) {
+            terminal::emit(&(hint + "\n"));
+        }
+    }
     if !output.quiet && reports.len() > 1 {
         terminal::emit(&(human::render_total(total(reports), reports.len()) + "\n"));
     }
+}
+
+/// Once per run, as rustc does: how to learn more about the codes shown
+/// (the first error's code as the example, else the first code).
+pub(super) fn explain_hint(reports: &[FileReport<'_>]) -> Option<String> {
+    let all = || reports.iter().flat_map(|r| r.diagnostics.iter());
+    let example = all()
+        .find(|d| d.severity == Severity::Error)
+        .or_else(|| all().next())?
+        .code
+        .as_str();
+    let distinct: std::collections::BTreeSet<&str> = all().map(|d| d.code.as_str()).collect();
+    Some(if distinct.len() == 1 {
+        format!("For more information about `{example}`, run `genom-check explain {example}`.")
+    } else {
+        format!(
+            "For more information about a code, run `genom-check explain CODE`, e.g. `genom-check explain {example}`."
+        )
+    })
 }
 
 /// GitHub annotations (advice and summaries left out with `--quiet`).

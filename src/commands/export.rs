@@ -174,6 +174,10 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
     if !output.quiet {
         out.push_str(&super::check::summary_line(&report));
         out.push('\n');
+        if let Some(hint) = super::check::explain_hint(std::slice::from_ref(&report)) {
+            out.push_str(&hint);
+            out.push('\n');
+        }
     }
     out
 }
