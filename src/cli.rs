@@ -169,16 +169,26 @@ pub enum DialectArg {
 
 /// Parses `30s`, `500ms`, `2min`, `1.5s` with the language's duration units.
 fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
-    let ns = genom_parser::literal::duration_ns(text.trim())
-        .map_err(|_| format!("`{text}` is not a duration such as `30s`, `500ms` or `2min`"))?;
-    u64::try_from(ns)
+    let t = text.trim();
+    // The language's own literals first (`10ms`, `2min`), then the usual
+    // forms (`1h`, `1h 30m`, `90sec`).
+    let parsed = genom_parser::literal::duration_ns(t)
         .ok()
-        .filter(|&n| n > 0)
+        .and_then(|ns| u64::try_from(ns).ok())
         .map(std::time::Duration::from_nanos)
-        .ok_or_else(|| format!("`{text}` must be positive"))
+        .or_else(|| humantime::parse_duration(t).ok())
+        .ok_or_else(|| {
+            format!("`{text}` is not a duration such as `30s`, `500ms`, `2min` or `1h`")
+        })?;
+    if parsed.is_zero() {
+        return Err(format!("`{text}` must be positive"));
+    }
+    Ok(parsed)
 }
 
-/// Parses `512M`, `4G`, `100k`, or a byte count.
+/// Parses `512M`, `4G`, `1.5G`, `100k` (binary multiples), a byte count,
+/// or the usual written sizes (`4GB`, `1.5 GiB`, `512MiB`: decimal
+/// `KB`/`MB`/`GB`, binary `KiB`/`MiB`/`GiB`).
 fn parse_size(text: &str) -> Result<usize, String> {
     let t = text.trim();
     let (digits, factor) = match t.as_bytes().last() {
@@ -191,8 +201,13 @@ fn parse_size(text: &str) -> Result<usize, String> {
         .parse::<usize>()
         .ok()
         .and_then(|n| n.checked_mul(factor))
+        .or_else(|| fractional(digits, factor))
+        .or_else(|| {
+            let written: bytesize::ByteSize = t.parse().ok()?;
+            usize::try_from(written.as_u64()).ok()
+        })
         .filter(|&n| n > 0)
-        .ok_or_else(|| format!("`{text}` is not a size such as `512M` or `4G`"))
+        .ok_or_else(|| format!("`{text}` is not a size such as `512M`, `4G` or `1.5GB`"))
 }
 
 /// Arguments of `export`.
@@ -355,6 +370,22 @@ pub struct GenerateArgs {
     pub self_stops: f64,
 }
 
+/// `1.5` × `factor` (a suffix letter given), rounded down.
+fn fractional(digits: &str, factor: usize) -> Option<usize> {
+    if factor == 1 {
+        return None;
+    }
+    let x: f64 = digits.parse().ok()?;
+    #[allow(clippy::cast_precision_loss)] // factors are powers of two up to 2^30
+    let bytes = x * factor as f64;
+    // Below 2^53 (far above any memory size), the conversion is exact.
+    (bytes.is_finite() && (1.0..9.0e15).contains(&bytes)).then(|| {
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // range checked
+        let b = bytes as usize;
+        b
+    })
+}
+
 /// Output options.
 #[derive(Debug, Clone, Args)]
 pub struct OutputArgs {
@@ -403,4 +434,37 @@ pub enum Color {
     Always,
     /// Never colour.
     Never,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_take_suffix_letters_fractions_and_written_units() {
+        assert_eq!(parse_size("4G"), Ok(4 << 30));
+        assert_eq!(parse_size("1.5G"), Ok(3 << 29));
+        assert_eq!(parse_size("512M"), Ok(512 << 20));
+        assert_eq!(parse_size("4GB"), Ok(4_000_000_000));
+        assert_eq!(parse_size("1.5 GiB"), Ok(3 << 29));
+        assert_eq!(parse_size("100"), Ok(100));
+        assert!(parse_size("0").is_err());
+        assert!(parse_size("-1G").is_err());
+        assert!(parse_size("1.5x").is_err());
+    }
+
+    #[test]
+    fn durations_take_the_language_literals_and_the_usual_forms() {
+        let secs = |s: u64| Ok(std::time::Duration::from_secs(s));
+        assert_eq!(parse_duration("30s"), secs(30));
+        assert_eq!(parse_duration("2min"), secs(120));
+        assert_eq!(parse_duration("1h"), secs(3600));
+        assert_eq!(parse_duration("1h 30m"), secs(5400));
+        assert_eq!(
+            parse_duration("500ms"),
+            Ok(std::time::Duration::from_millis(500))
+        );
+        assert!(parse_duration("0s").is_err());
+        assert!(parse_duration("soon").is_err());
+    }
 }

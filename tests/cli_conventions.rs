@@ -159,3 +159,21 @@ fn human_reports_say_once_how_to_learn_more_about_a_code() {
     let (_, stdout, _) = run(genom_check().args(["--quiet", "--static-only", INVALID]));
     assert!(!stdout.contains("For more information"), "{stdout}");
 }
+
+#[test]
+fn sizes_and_durations_accept_the_usual_units() {
+    for (option, value) in [
+        ("--max-memory", "4GB"),
+        ("--max-memory", "1.5G"),
+        ("--max-memory", "512MiB"),
+        ("--timeout", "1h"),
+        ("--timeout", "1h 30m"),
+    ] {
+        let (status, stdout, stderr) =
+            run(genom_check().args(["--static-only", option, value, SELF_CONTAINED]));
+        assert_eq!(status, 0, "{option} {value}: {stdout}{stderr}");
+    }
+    let (status, _, stderr) = run(genom_check().args(["--max-memory", "lots", SELF_CONTAINED]));
+    assert_eq!(status, 2);
+    assert!(stderr.contains("is not a size such as"), "{stderr}");
+}
