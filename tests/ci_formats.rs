@@ -20,6 +20,14 @@ fn genom_check(args: &[&str]) -> (i32, String) {
     (out.status.code().expect("exited"), stdout)
 }
 
+/// `genom-check --format github FILE`, snapshotted as `name`; returns the
+/// exit status and the output.
+fn github_snapshot(name: &str, file: &str) -> (i32, String) {
+    let (status, out) = genom_check(&["--format", "github", file]);
+    snapshot(name, &out);
+    (status, out)
+}
+
 /// Snapshots `stdout` with the exploration times masked.
 fn snapshot(name: &str, stdout: &str) {
     insta::with_settings!({filters => vec![(r"\d+\.\d ms", "[time] ms")]}, {
@@ -29,31 +37,20 @@ fn snapshot(name: &str, stdout: &str) {
 
 #[test]
 fn github_annotations_of_a_clean_spec_errors_and_a_verdict() {
-    let (status, out) = genom_check(&["--format", "github", "specs/pilot.gen"]);
+    let (status, _) = github_snapshot("github_pilot", "specs/pilot.gen");
     assert_eq!(status, 0);
-    snapshot("github_pilot", &out);
 
-    let (status, out) = genom_check(&[
-        "--format",
-        "github",
-        "tests/fixtures/invalid/syntax.several-errors.gen",
-    ]);
+    let errors = "tests/fixtures/invalid/syntax.several-errors.gen";
+    let (status, out) = github_snapshot("github_syntax_errors", errors);
     assert_eq!(status, 1);
-    assert!(
-        out.lines().filter(|l| l.starts_with("::error ")).count() > 1,
-        "{out}"
-    );
-    snapshot("github_syntax_errors", &out);
+    let annotations = out.lines().filter(|l| l.starts_with("::error ")).count();
+    assert!(annotations > 1, "{out}");
 
-    let (status, out) = genom_check(&[
-        "--format",
-        "github",
-        "tests/fixtures/invalid/deadlock.circular-delays.gen",
-    ]);
+    let deadlock = "tests/fixtures/invalid/deadlock.circular-delays.gen";
+    let (status, out) = github_snapshot("github_deadlock_trace", deadlock);
     assert_eq!(status, 1);
     // The trace rides in the annotation's text, one step a line.
     assert!(out.contains("%0Atrace:%0A  1. "), "{out}");
-    snapshot("github_deadlock_trace", &out);
 }
 
 #[test]

@@ -348,6 +348,12 @@ impl Legend {
         self.c.rect(None, class, r, 0.0, fill, stroke, "");
     }
 
+    /// A legend arrow (24 px, at the left of the current row).
+    fn arrow(&mut self, id: &str, class: &str, color: &str, dash: &str) {
+        let mid = self.mid();
+        self.c.legend_arrow(id, class, 0.0, mid, 24.0, color, dash);
+    }
+
     fn text(&mut self, what: &str) {
         let top = self.mid() - line_height(FONT) / 2.0;
         self.c.text(
@@ -379,13 +385,9 @@ fn overview_legend(d: &Diagrams) -> Part {
         l.text(&format!("{}: {}", g.title, g.detail));
     }
     for rule in Rule::ALL {
-        let mid = l.mid();
-        l.c.legend_arrow(
+        l.arrow(
             &format!("legend.overview.{}", rule.keyword()),
             &format!("legend edge rule {}", rule.keyword()),
-            0.0,
-            mid,
-            24.0,
             rule.color(),
             rule_dash(rule),
         );
@@ -427,13 +429,9 @@ fn machine_legend() -> Part {
         l.text(what);
     }
     for kind in [EdgeKind::Request, EdgeKind::Next, EdgeKind::OnInter] {
-        let mid = l.mid();
-        l.c.legend_arrow(
+        l.arrow(
             &format!("legend.machine.{}", kind.class()),
             &format!("legend edge {}", kind.class()),
-            0.0,
-            mid,
-            24.0,
             kind.color(),
             dash(kind == EdgeKind::OnInter, false),
         );

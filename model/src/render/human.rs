@@ -65,8 +65,13 @@ pub fn render_diagnostic(sources: &SourceMap, d: &Diagnostic, options: HumanOpti
 
 /// The one-line summary: `pilot.gen: 0 errors, 0 warnings, 1 advice`.
 pub fn render_summary(path: &str, counts: Counts) -> String {
+    format!("{path}: {}", counts_text(counts))
+}
+
+/// `1 error, 2 warnings, 0 advice`.
+fn counts_text(counts: Counts) -> String {
     format!(
-        "{path}: {} {}, {} {}, {} advice",
+        "{} {}, {} {}, {} advice",
         counts.errors,
         plural(counts.errors, "error"),
         counts.warnings,
@@ -79,12 +84,8 @@ pub fn render_summary(path: &str, counts: Counts) -> String {
 /// `Found 1 error, 2 warnings, 0 advice in 3 files.`
 pub fn render_total(counts: Counts, files: usize) -> String {
     format!(
-        "Found {} {}, {} {}, {} advice in {files} {}.",
-        counts.errors,
-        plural(counts.errors, "error"),
-        counts.warnings,
-        plural(counts.warnings, "warning"),
-        counts.advice,
+        "Found {} in {files} {}.",
+        counts_text(counts),
         plural(files, "file")
     )
 }
