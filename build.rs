@@ -3,7 +3,8 @@
 //! shows as `ignored` with its reason instead of passing without running.
 //! `cfg(genom_spin)`: `spin` and `gcc` answer (or `GENOM_REQUIRE_SPIN=1`,
 //! which makes their absence a failure); `cfg(genom_tchecker)`: `TCK_REACH`
-//! names a file.
+//! names a file; `cfg(genom_sarif_schema)`: `SARIF_SCHEMA` names the SARIF
+//! 2.1.0 JSON schema file.
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -24,6 +25,11 @@ fn main() {
     println!("cargo::rerun-if-env-changed=TCK_REACH");
     println!("cargo::rustc-check-cfg=cfg(genom_spin)");
     println!("cargo::rustc-check-cfg=cfg(genom_tchecker)");
+    println!("cargo::rerun-if-env-changed=SARIF_SCHEMA");
+    println!("cargo::rustc-check-cfg=cfg(genom_sarif_schema)");
+    if std::env::var_os("SARIF_SCHEMA").is_some_and(|p| Path::new(&p).is_file()) {
+        println!("cargo::rustc-cfg=genom_sarif_schema");
+    }
     let required = std::env::var("GENOM_REQUIRE_SPIN").is_ok_and(|v| v == "1");
     if required || (answers("spin", "-V") && answers("gcc", "--version")) {
         println!("cargo::rustc-cfg=genom_spin");

@@ -416,6 +416,8 @@ pub enum Format {
     /// GitHub Actions workflow commands: annotations on the pull request's
     /// lines (see docs/ci.md).
     Github,
+    /// SARIF 2.1.0, for code scanning (see docs/ci.md).
+    Sarif,
 }
 
 /// What `--deny` can make fatal.

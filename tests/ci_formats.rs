@@ -98,3 +98,86 @@ fn several_files_end_with_the_grand_total() {
     let (_, out) = genom_check(&["--static-only", "specs/pilot.gen"]);
     assert!(!out.contains("Found "), "{out}");
 }
+
+/// `--format sarif` on a deadlock: one result per diagnostic with its rule,
+/// level and region, the trace as a code flow of as many steps, and rules
+/// listed once each with their `explain` text.
+#[test]
+fn sarif_carries_every_diagnostic_its_rule_and_its_trace() {
+    let file = "tests/fixtures/invalid/deadlock.circular-delays.gen";
+    let (status, sarif) = genom_check(&["--format", "sarif", file]);
+    assert_eq!(status, 1);
+    let (_, json) = genom_check(&["--format", "json", file]);
+    let log: serde_json::Value = serde_json::from_str(&sarif).expect("SARIF is JSON");
+    let doc: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert_eq!(log["version"], "2.1.0");
+    let run = &log["runs"][0];
+    let results = run["results"].as_array().expect("results");
+    let diagnostics = doc["files"][0]["diagnostics"]
+        .as_array()
+        .expect("diagnostics");
+    assert_eq!(results.len(), diagnostics.len());
+    for (r, d) in results.iter().zip(diagnostics) {
+        assert_eq!(r["ruleId"], d["code"]);
+        let region = &r["locations"][0]["physicalLocation"]["region"];
+        assert_eq!(
+            (&region["startLine"], &region["startColumn"]),
+            (&d["line"], &d["column"])
+        );
+        let rule =
+            &run["tool"]["driver"]["rules"][r["ruleIndex"].as_u64().expect("index") as usize];
+        assert_eq!(rule["id"], d["code"]);
+        assert!(
+            rule["help"]["text"]
+                .as_str()
+                .is_some_and(|t| t.contains("# `"))
+        );
+    }
+    let deadlock = results
+        .iter()
+        .find(|r| r["ruleId"] == "deadlock")
+        .expect("a deadlock");
+    assert_eq!(deadlock["level"], "error");
+    let flow = deadlock["codeFlows"][0]["threadFlows"][0]["locations"]
+        .as_array()
+        .expect("flow");
+    let trace = diagnostics
+        .iter()
+        .find(|d| d["code"] == "deadlock")
+        .expect("deadlock")["trace"]
+        .as_array()
+        .expect("trace")
+        .len();
+    assert_eq!(flow.len(), trace);
+}
+
+/// The SARIF log validates against the official SARIF 2.1.0 schema (OASIS
+/// `sarif-schema-2.1.0.json`, given by `SARIF_SCHEMA` when the tests are
+/// built), on a deadlock with its trace, errors with related labels, and a
+/// clean file.
+#[test]
+#[cfg_attr(
+    not(genom_sarif_schema),
+    ignore = "needs SARIF_SCHEMA=path/to/sarif-schema-2.1.0.json when the tests are built"
+)]
+fn sarif_validates_against_the_sarif_2_1_0_schema() {
+    let path = std::env::var("SARIF_SCHEMA").expect("SARIF_SCHEMA");
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("schema")).expect("JSON");
+    let validator = jsonschema::validator_for(&schema).expect("a valid schema");
+    for file in [
+        "tests/fixtures/invalid/deadlock.circular-delays.gen",
+        "tests/fixtures/invalid/duplicate-definition.two-services.gen",
+        "specs/pilot.gen",
+    ] {
+        let (_, sarif) = genom_check(&["--format", "sarif", file]);
+        let log: serde_json::Value = serde_json::from_str(&sarif).expect("JSON");
+        let errors: Vec<String> = validator.iter_errors(&log).map(|e| e.to_string()).collect();
+        assert!(errors.is_empty(), "{file}: {errors:#?}");
+    }
+    // The validator does reject what the schema forbids.
+    let (_, sarif) = genom_check(&["--format", "sarif", "specs/pilot.gen"]);
+    let mut log: serde_json::Value = serde_json::from_str(&sarif).expect("JSON");
+    log["runs"][0]["results"][0]["level"] = "fatal".into();
+    assert!(!validator.is_valid(&log));
+}

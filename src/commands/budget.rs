@@ -37,7 +37,7 @@ mod with_smt {
     };
     use genom_model::component::{CodelId, Component};
     use genom_model::render::human::format_ns;
-    use genom_model::render::{FileReport, github, human, json};
+    use genom_model::render::{FileReport, github, human, json, sarif};
     use genom_model::{Code, Dialect, Severity};
     use serde_json::{Value, json};
 
@@ -92,7 +92,7 @@ mod with_smt {
         };
         match output.format {
             // Budgets are a table, not diagnostics: GitHub gets it as text.
-            Format::Human | Format::Github => {
+            Format::Human | Format::Github | Format::Sarif => {
                 terminal::emit(&table(&shown, component, &found, args));
             }
             Format::Json => terminal::emit(&(to_json(&shown, component, &found) + "\n")),
@@ -149,6 +149,11 @@ mod with_smt {
         };
         match output.format {
             Format::Json => terminal::emit(&(json::render(&[report]) + "\n")),
+            Format::Sarif => terminal::emit(&sarif::render(
+                &[report],
+                &crate::commands::explain::text_of,
+                env!("CARGO_PKG_VERSION"),
+            )),
             Format::Github => {
                 let summary = [human::render_summary(shown, report.counts())];
                 terminal::emit(&github::render(&[report], Some(&summary)));

@@ -2,7 +2,7 @@
 //! (human or JSON), then returns the exit status.
 
 use genom_check::{CheckOptions, CheckResult, display};
-use genom_model::render::{FileReport, github, human, json};
+use genom_model::render::{FileReport, github, human, json, sarif};
 use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -37,6 +37,11 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         Format::Human => print_human(&reports, output),
         Format::Json => terminal::emit(&(json::render_with_unread(&reports, &unread) + "\n")),
         Format::Github => print_github(&reports, output),
+        Format::Sarif => terminal::emit(&sarif::render(
+            &reports,
+            &super::explain::text_of,
+            env!("CARGO_PKG_VERSION"),
+        )),
     }
     exit_status(&reports, output.deny, !unread.is_empty())
 }

@@ -9,11 +9,7 @@ use crate::cli::ExplainArgs;
 pub fn run(args: &ExplainArgs) -> u8 {
     match args.code.parse::<Code>() {
         Ok(code) => {
-            let text = match genom_genom3::explain::explanation(code) {
-                Some(body) => genom_check::explain::explanation_with(code, body),
-                None => genom_check::explain::explanation(code),
-            };
-            crate::terminal::emit(&text);
+            crate::terminal::emit(&text_of(code));
             EXIT_OK
         }
         Err(e) => {
@@ -27,5 +23,13 @@ pub fn run(args: &ExplainArgs) -> u8 {
             }
             EXIT_USAGE
         }
+    }
+}
+
+/// The explanation of `code`, from whichever front-end or check owns it.
+pub fn text_of(code: Code) -> String {
+    match genom_genom3::explain::explanation(code) {
+        Some(body) => genom_check::explain::explanation_with(code, body),
+        None => genom_check::explain::explanation(code),
     }
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{FileReport, github, human, json};
+use genom_model::render::{FileReport, github, human, json, sarif};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -158,6 +158,13 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
         ReportFormat::Github => {
             let summary = [super::check::summary_line(&report)];
             return github::render(std::slice::from_ref(&report), Some(&summary));
+        }
+        ReportFormat::Sarif => {
+            return sarif::render(
+                std::slice::from_ref(&report),
+                &super::explain::text_of,
+                env!("CARGO_PKG_VERSION"),
+            );
         }
         ReportFormat::Human => {}
     }

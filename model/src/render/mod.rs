@@ -1,12 +1,14 @@
 //! Rendering of diagnostics, the one place where a [`Diagnostic`] becomes
 //! text: graphical reports with miette ([`human`]), the versioned JSON
-//! document ([`json`]) and GitHub Actions annotations ([`github`]). Rendering returns strings; only the binary prints.
+//! document ([`json`]), GitHub Actions annotations ([`github`]) and SARIF
+//! 2.1.0 ([`sarif`]). Rendering returns strings; only the binary prints.
 //!
 //! [`Diagnostic`]: crate::Diagnostic
 
 pub mod github;
 pub mod human;
 pub mod json;
+pub mod sarif;
 
 use crate::diagnostic::{Counts, Diagnostic};
 use crate::dialect::{Dialect, Pragma};
