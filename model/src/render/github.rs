@@ -11,7 +11,7 @@
 use std::fmt::Write as _;
 
 use super::FileReport;
-use super::json::location;
+use super::json::{location, region};
 use crate::diagnostic::{Counts, Diagnostic, Severity};
 use crate::span::SourceMap;
 
@@ -45,20 +45,15 @@ pub fn annotation(sources: &SourceMap, d: &Diagnostic) -> String {
         Severity::Warning => "warning",
         Severity::Advice => "notice",
     };
-    let start = location(sources, d.span());
-    let end_span = d.span();
-    let end = location(
-        sources,
-        crate::Span::point(end_span.end.max(end_span.start)),
-    );
+    let (start, end) = region(sources, d.span());
     let mut props = format!(
         "file={},line={},col={}",
         property(&start.file),
         start.line,
         start.column
     );
-    if end.file == start.file && end.line >= start.line {
-        let _ = write!(props, ",endLine={},endColumn={}", end.line, end.column);
+    if let Some((line, column)) = end {
+        let _ = write!(props, ",endLine={line},endColumn={column}");
     }
     let _ = write!(props, ",title={}", property(d.code.as_str()));
     format!("::{command} {props}::{}", data(&message(sources, d)))

@@ -272,6 +272,17 @@ fn step(sources: &SourceMap, i: usize, s: &TraceStep, loop_start: bool) -> JsonS
     }
 }
 
+/// The start of `span` resolved as [`location`], and its end as 1-based
+/// line and column (the column after the last character) when the span
+/// ends in the same file, for formats that give regions (GitHub, SARIF).
+pub fn region(sources: &SourceMap, span: Span) -> (JsonLocation, Option<(usize, usize)>) {
+    let start = location(sources, span);
+    let end = location(sources, Span::point(span.end.max(span.start)));
+    let same_file = end.file == start.file && end.line >= start.line;
+    let end = same_file.then_some((end.line, end.column));
+    (start, end)
+}
+
 /// Resolves a global span to file, line, column and local span.
 pub fn location(sources: &SourceMap, span: Span) -> JsonLocation {
     let located = sources.locate(span);

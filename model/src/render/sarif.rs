@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use serde_json::{Value, json};
 
 use super::FileReport;
-use super::json::location;
+use super::json::region;
 use crate::diagnostic::{Code, Diagnostic, Severity};
 use crate::span::{SourceMap, Span};
 use crate::trace::Trace;
@@ -130,12 +130,11 @@ fn code_flow(sources: &SourceMap, trace: &Trace) -> Value {
 /// A file and the region of `span` in it (1-based lines and columns, the
 /// end column exclusive).
 fn physical(sources: &SourceMap, span: Span) -> Value {
-    let start = location(sources, span);
-    let end = location(sources, Span::point(span.end.max(span.start)));
+    let (start, end) = region(sources, span);
     let mut region = json!({ "startLine": start.line, "startColumn": start.column });
-    if end.file == start.file && end.line >= start.line {
-        region["endLine"] = json!(end.line);
-        region["endColumn"] = json!(end.column);
+    if let Some((line, column)) = end {
+        region["endLine"] = json!(line);
+        region["endColumn"] = json!(column);
     }
     json!({
         "artifactLocation": { "uri": start.file },
