@@ -123,6 +123,12 @@ pub struct CheckArgs {
     /// engine (same verdicts; slower; traces may differ).
     #[arg(long)]
     pub no_reduction: bool,
+
+    /// GenoM3: explore up to N instances of one activity at once (at most 31,
+    /// GenoM3's slots per task). One gives the untimed verdicts exactly;
+    /// more only cross-checks that.
+    #[arg(long, value_name = "N", default_value_t = genom_checker::DEFAULT_MAX_INSTANCES)]
+    pub max_instances: usize,
 }
 
 /// How files are read: their dialect and, for GenoM3, where their

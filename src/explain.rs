@@ -74,6 +74,8 @@ fn body(code: Code) -> &'static str {
         Code::MaxTimeExceeded => max_time::EXPLANATION_EXCEEDED,
         Code::MaxTimeWatchdog => max_time::EXPLANATION_WATCHDOG,
         Code::MissingWcet => missing_wcet::EXPLANATION,
+        Code::Livelock => livelock::EXPLANATION_LIVELOCK,
+        Code::UnpausedLoop => livelock::EXPLANATION_UNPAUSED_LOOP,
         // The GenoM3 front-end's codes: their texts are in
         // `genom_genom3::explain` (the CLI asks it first).
         Code::IgnoredDirective

@@ -1,9 +1,10 @@
 //! The check of a GenoM3 file: the GenoM3 front-end reads it with its
 //! includes and WCET side file and lowers it into the model, then the
-//! checker runs its static checks. The engines do not model GenoM3's
-//! execution semantics yet, so its behaviour is not explored: a check that
-//! asked for it (no `--static-only`) reports `incomplete` rather than a
-//! clean verdict.
+//! checker runs its static checks, then (no `--static-only`, no errors) the
+//! GenoM3 engine explores it under GenoM3's semantics, untimed. Timing
+//! (schedulability, response times) is not modelled for GenoM3 yet: with
+//! WCETs given, the check reports `incomplete` for it rather than a clean
+//! verdict.
 
 use std::path::Path;
 use std::time::Instant;
@@ -59,9 +60,16 @@ pub(crate) fn check(
         .diagnostics
         .iter()
         .any(|d| d.severity == Severity::Error);
-    if let (true, true, Some(c)) = (options.runs_behaviour(), clean, &result.component) {
-        let unverified = incomplete::semantics_not_modelled(c, Dialect::Genom3.title());
-        result.extend([unverified]);
+    if let (true, true, Some(c)) = (options.runs_behaviour(), clean, result.component.take()) {
+        if let Some((found, stats)) = genom_checker::verify_genom3(&c, options, started) {
+            result.extend(found);
+            result.statistics = Some(stats);
+        }
+        if c.gives_timing() {
+            let unverified = incomplete::timing_not_modelled(&c, Dialect::Genom3.title());
+            result.extend([unverified]);
+        }
+        result.component = Some(c);
     }
     Ok(result)
 }

@@ -91,17 +91,24 @@ fn a_genom3_file_is_recognised_and_its_static_checks_run() {
 }
 
 #[test]
-fn asking_for_behaviour_of_a_genom3_component_is_incomplete_not_verified() {
+fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
+    // Without WCETs: the GenoM3 engine explores it and finds nothing.
+    let (status, file) = json(&[DEMO]);
+    assert_eq!(status, 0, "{file:#}");
+    assert_eq!(file["statistics"]["complete"], Value::Bool(true));
+    assert!(file["statistics"]["states"].as_u64().unwrap() > 1);
+    // With WCETs: the untimed verdicts stand, timing is left unproven.
     let (status, file) = json(&["--wcet", DEMO_WCET, DEMO]);
     assert_eq!(status, 1);
     assert_eq!(codes(&file, "error"), ["incomplete"]);
     let d = &file["diagnostics"][0];
     assert!(d["message"].as_str().unwrap().contains("GenoM3"), "{d:#}");
+    assert!(d["help"].as_str().unwrap().contains("thread-overrun"), "{d:#}");
     assert_eq!(
         (d["line"].as_u64(), d["file"].as_str()),
         (Some(7), Some(DEMO))
     );
-    assert!(file["statistics"].is_null());
+    assert_eq!(file["statistics"]["complete"], Value::Bool(true));
     // An export needs a verified model: refused, and allowed only marked.
     let refused = genom_check()
         .args(["export", "uppaal", "--wcet", DEMO_WCET, DEMO])

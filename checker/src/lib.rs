@@ -8,8 +8,10 @@ pub mod checks;
 #[cfg(test)]
 pub mod testing;
 mod verify;
+mod verify_genom3;
 
-pub use genom_engine::{engine, replay, timed, zones};
+pub use genom_engine::{engine, genom3, replay, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};
-pub use verify::{CheckOptions, Verdicts, verify};
+pub use verify::{CheckOptions, DEFAULT_MAX_INSTANCES, Verdicts, verify};
+pub use verify_genom3::verify_genom3;

@@ -10,6 +10,12 @@ use genom_model::{Code, Diagnostic, Severity, Statistics, sort_diagnostics};
 
 use crate::engine::Limits;
 
+/// The default of `--max-instances`: one instance of each activity at a
+/// time, which gives the untimed GenoM3 verdicts exactly (instances of one
+/// activity only interrupt or delay each other: see
+/// `docs/genom3-semantics.md` section 14).
+pub const DEFAULT_MAX_INSTANCES: usize = 1;
+
 /// Options of a check, built with consuming setters (as stateright's
 /// checker builder).
 #[derive(Debug, Clone)]
@@ -19,6 +25,7 @@ pub struct CheckOptions {
     max_memory: usize,
     behaviour: bool,
     reduction: bool,
+    max_instances: usize,
 }
 
 impl Default for CheckOptions {
@@ -29,6 +36,7 @@ impl Default for CheckOptions {
             max_memory: 8 << 30,
             behaviour: true,
             reduction: true,
+            max_instances: DEFAULT_MAX_INSTANCES,
         }
     }
 }
@@ -76,6 +84,19 @@ impl CheckOptions {
         self
     }
 
+    /// GenoM3: the most instances of one activity explored at once (then
+    /// the verdicts say they hold up to that many).
+    #[must_use]
+    pub fn max_instances(mut self, n: usize) -> Self {
+        self.max_instances = n.max(1);
+        self
+    }
+
+    /// The instance bound of [`CheckOptions::max_instances`].
+    pub fn instance_bound(&self) -> usize {
+        self.max_instances
+    }
+
     /// When a check started at `started` must stop (`--timeout`), if ever.
     pub fn deadline(&self, started: Instant) -> Option<Instant> {
         self.timeout.map(|t| started + t)
@@ -95,7 +116,7 @@ impl CheckOptions {
         self.behaviour
     }
 
-    fn limits(&self, started: Instant) -> Limits {
+    pub(crate) fn limits(&self, started: Instant) -> Limits {
         Limits {
             max_states: self.max_states,
             deadline: self.deadline(started),

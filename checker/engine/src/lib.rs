@@ -4,6 +4,7 @@
 //! against the semantics ([`replay`]).
 
 pub mod engine;
+pub mod genom3;
 pub mod replay;
 #[cfg(test)]
 mod testing;

@@ -17,11 +17,10 @@ Why it matters: a verifier must never say "verified" when it did not finish.
 Violations found before the limit are real (they come with traces), but the
 absence of a violation is not proven, so the exit status is 1.
 
-A GenoM3 component checked without `--static-only` also gets it: the engines
-do not model GenoM3's execution semantics yet (transitions within a period,
-`pause::`, permanent task codels...), so its deadlock freedom, reachability
-and timing are not verified; its static checks did run. Pass `--static-only`
-to ask for the static checks alone.
+A GenoM3 component checked with WCETs (`--wcet`) also gets it: the GenoM3
+engine explores GenoM3's semantics without time, so its untimed verdicts
+(dead services, codel reachability, livelocks) stand, but schedulability and
+response times are not verified yet.
 
 For a limit: raise it, or simplify the component: services that share no `stops`,
 `delays` or `forbids` are verified separately, so cutting such links between
@@ -43,19 +42,20 @@ pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
     .with_help(format!("left unproven: {what}; raise the limit to finish"))
 }
 
-/// Verification of a component whose execution semantics (those of
-/// `dialect`) the engines do not model: only the static checks ran.
-pub fn semantics_not_modelled(c: &Component, dialect: &str) -> Diagnostic {
+/// A component with WCETs whose timed semantics (those of `dialect`) the
+/// timed engine does not model: its untimed verdicts stand, its timing is
+/// unproven.
+pub fn timing_not_modelled(c: &Component, dialect: &str) -> Diagnostic {
     Diagnostic::new(
         Code::Incomplete,
         format!(
-            "verification is incomplete: the engines do not model {dialect}'s execution semantics yet"
+            "verification is incomplete: the timed engine does not model {dialect}'s timing yet"
         ),
         c.name.span,
-        "behaviour not verified",
+        "timing not verified",
     )
     .with_help(
-        "the static checks ran; deadlock freedom, reachability and timing are left unproven. Pass `--static-only` to run only the static checks",
+        "the untimed verdicts (dead services, codel reachability, livelocks) stand; schedulability (`thread-overrun`) and response times are left unproven",
     )
 }
 

@@ -16,6 +16,7 @@ mod duplicate_definition;
 pub mod incomplete;
 #[cfg(test)]
 mod invalid_attribute;
+pub mod livelock;
 pub mod max_time;
 #[cfg(test)]
 mod missing_component;

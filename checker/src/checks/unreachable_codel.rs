@@ -149,6 +149,22 @@ pub fn never_reached(service: &str, codel: &str, kind: &str, span: Span) -> Diag
     )
 }
 
+/// `unreachable-codel` on a GenoM3 component: the codel of `state` (function
+/// `function`) of `owner` (`activity `a`` or `task `t``), which its yields
+/// lead to but no execution under GenoM3's semantics runs.
+pub fn never_run_genom3(owner: &str, state: &str, function: &str, span: Span) -> Diagnostic {
+    Diagnostic::new(
+        Code::UnreachableCodel,
+        format!("codel `{function}` of {owner} (state `{state}`) is never run in any execution"),
+        span,
+        "no execution of the component runs this codel",
+    )
+    .with_help(
+        "its state machine leads here, but GenoM3's rules never let it happen: typically the \
+         only way in is after a service that can never complete, or a stop path nothing reaches",
+    )
+}
+
 /// Reports codels the codel graph reaches but exploration never ran; skips
 /// dead services (`dead-service` covers them) and services whose
 /// exploration did not finish.

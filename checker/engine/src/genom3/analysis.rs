@@ -1,0 +1,300 @@
+//! Explores a GenoM3 component under GenoM3's semantics and reads the
+//! verdicts off the reachable states: which services are ever accepted,
+//! which codels ever run, and which unpaused cycles (livelocks within a
+//! period) are entered, each with its trace.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use genom_model::component::{Component, Idx, ServiceId};
+use genom_model::trace::{Event, Trace, TraceStep};
+use petgraph::algo::tarjan_scc;
+use petgraph::graphmap::DiGraphMap;
+
+use super::machine::{Fsm, Machine, Owner, Target};
+use super::parts::parts;
+use super::state::{G3State, Inst, Phase};
+use super::steps::{Engine, G3Action};
+use crate::engine::explore::{Limits, Model, Stop, explore};
+use crate::engine::store::StateId;
+
+/// A cycle of unpaused transitions of one state machine.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Cycle {
+    /// Whose machine.
+    pub owner: Owner,
+    /// Its states, in the order a run goes round (first: the entry).
+    pub states: Vec<u8>,
+    /// Whether some codel of it may yield out of it (`ether`, `pause::`, or
+    /// a state outside).
+    pub has_exit: bool,
+}
+
+/// A reachable unpaused cycle, with the trace that enters it and goes
+/// round once.
+#[derive(Debug, Clone)]
+pub struct Livelock {
+    /// The cycle, its first state the one the trace enters.
+    pub cycle: Cycle,
+    /// The trace (a lasso: `loop_start` opens the round).
+    pub trace: Trace,
+}
+
+/// What the GenoM3 engine found.
+#[derive(Debug, Clone, Default)]
+pub struct G3Analysis {
+    /// States stored.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+    /// Bytes per stored state.
+    pub bytes_per_state: f64,
+    /// Why exploration stopped early, if it did.
+    pub stopped: Option<Stop>,
+    /// The most instances of one activity explored at once.
+    pub max_instances: usize,
+    /// Whether some request was left unexplored because of that bound.
+    pub bound_hit: bool,
+    /// Services some execution accepts (an activity: starts).
+    pub started: BTreeSet<ServiceId>,
+    /// Services some execution completes successfully (`after` counts
+    /// them).
+    pub completed: BTreeSet<ServiceId>,
+    /// States whose codel some execution runs, per owner.
+    pub reached: BTreeSet<(Owner, u8)>,
+    /// Reachable unpaused cycles.
+    pub livelocks: Vec<Livelock>,
+}
+
+/// Explores `c` (a GenoM3 component; `None` otherwise) with at most
+/// `max_instances` instances of each activity, part by part
+/// ([`super::parts`]).
+pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Option<G3Analysis> {
+    let whole = Engine::new(Machine::new(c, max_instances)?);
+    let cycles = unpaused_cycles(&whole.m);
+    let mut out = G3Analysis {
+        max_instances: whole.m.max_instances,
+        ..G3Analysis::default()
+    };
+    let mut done = vec![0u64; c.services.len().div_ceil(64).max(1)];
+    let mut boot: Vec<G3Action> = Vec::new();
+    let mut bytes = 0.0f64;
+    for part in parts(&whole.m) {
+        let perms = part.perms;
+        let engine = Engine::part(whole.m.clone(), part.acts, part.ctls, part.perms);
+        let mut entered: BTreeMap<usize, (StateId, Owner, u8)> = BTreeMap::new();
+        let mut booted: Option<StateId> = None;
+        let exploration = explore(&engine, limits, |id, s: &G3State| {
+            for (w, d) in done.iter_mut().zip(&s.done) {
+                *w |= d;
+            }
+            if perms && booted.is_none() && s.phase != Phase::Boot {
+                booted = Some(id);
+            }
+            for (owner, i) in running(s) {
+                out.reached.insert((owner, i.state));
+                if let Owner::Activity(a) = owner {
+                    out.started.insert(engine.m.activities[a].service);
+                }
+                for (k, cy) in cycles.iter().enumerate() {
+                    if cy.owner == owner && cy.states.contains(&i.state) {
+                        entered.entry(k).or_insert((id, owner, i.state));
+                    }
+                }
+            }
+        });
+        if let Some(id) = booted {
+            boot = exploration.store.path(id);
+        }
+        for (k, (id, owner, state)) in entered {
+            let mut path = if perms { Vec::new() } else { boot.clone() };
+            path.extend(exploration.store.path(id));
+            let cycle = rotate(&whole.m, &cycles[k], state);
+            out.livelocks.push(Livelock {
+                trace: lasso(&whole, &path, owner, &cycle),
+                cycle,
+            });
+        }
+        out.states += exploration.store.len() as u64;
+        out.transitions += exploration.transitions;
+        bytes = bytes.max(exploration.store.bytes_per_state());
+        out.stopped = out.stopped.or(exploration.stopped);
+        out.bound_hit |= engine.bound_hit.get();
+        if out.stopped.is_some() {
+            break;
+        }
+    }
+    out.bytes_per_state = bytes;
+    out.completed = c
+        .services
+        .ids()
+        .filter(|s| done[s.index() / 64] >> (s.index() % 64) & 1 == 1)
+        .collect();
+    out.started.extend(out.completed.iter().copied());
+    out.livelocks
+        .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
+    Some(out)
+}
+
+/// Every started instance and permanent activity of a state.
+fn running(s: &G3State) -> impl Iterator<Item = (Owner, Inst)> + '_ {
+    let acts = s.inst.iter().enumerate().flat_map(|(a, v)| {
+        v.iter()
+            .filter(|i| i.running())
+            .map(move |i| (Owner::Activity(a), *i))
+    });
+    let perms = s
+        .perm
+        .iter()
+        .enumerate()
+        .filter_map(|(t, p)| p.map(|i| (Owner::Task(t), i)));
+    acts.chain(perms)
+}
+
+/// The cycles of unpaused transitions of every state machine that go
+/// through no `async` codel (an async codel blocks: the task does not
+/// spin), one per strongly connected component.
+pub fn unpaused_cycles(m: &Machine<'_>) -> Vec<Cycle> {
+    let owners = (0..m.activities.len())
+        .map(Owner::Activity)
+        .chain((0..m.tasks.len()).map(Owner::Task));
+    let mut out = Vec::new();
+    for owner in owners {
+        let fsm = m.fsm(owner);
+        let mut g: DiGraphMap<u8, (), std::hash::RandomState> = DiGraphMap::new();
+        for s in 0..fsm.states.len() {
+            let s = s as u8;
+            g.add_node(s);
+            for t in fsm.unpaused(s) {
+                g.add_edge(s, t, ());
+            }
+        }
+        for mut scc in tarjan_scc(&g) {
+            let cyclic = scc.len() > 1 || g.contains_edge(scc[0], scc[0]);
+            if !cyclic || scc.iter().any(|&s| fsm.states[usize::from(s)].is_async) {
+                continue;
+            }
+            scc.sort_unstable();
+            let has_exit = scc.iter().any(|&s| {
+                fsm.states[usize::from(s)].yields.iter().any(|t| match *t {
+                    Target::State { state, pause } => pause || !scc.contains(&state),
+                    Target::Ether => true,
+                })
+            });
+            out.push(Cycle {
+                owner,
+                states: scc,
+                has_exit,
+            });
+        }
+    }
+    out
+}
+
+/// The cycle as a round from `entry` back to it (shortest, within the
+/// strongly connected component).
+fn rotate(m: &Machine<'_>, cycle: &Cycle, entry: u8) -> Cycle {
+    let fsm = m.fsm(cycle.owner);
+    let round = round_from(fsm, &cycle.states, entry);
+    Cycle {
+        states: round,
+        ..cycle.clone()
+    }
+}
+
+/// A shortest path of unpaused yields inside `scc` from `entry` back to
+/// it, as the states visited (starting with `entry`).
+fn round_from(fsm: &Fsm, scc: &[u8], entry: u8) -> Vec<u8> {
+    let mut parent: BTreeMap<u8, u8> = BTreeMap::new();
+    let mut queue = std::collections::VecDeque::from([entry]);
+    while let Some(s) = queue.pop_front() {
+        for t in fsm.unpaused(s).filter(|t| scc.contains(t)) {
+            if t == entry {
+                let mut path = vec![s];
+                let mut cur = s;
+                while cur != entry {
+                    cur = parent[&cur];
+                    path.push(cur);
+                }
+                path.reverse();
+                return path;
+            }
+            if let std::collections::btree_map::Entry::Vacant(e) = parent.entry(t) {
+                e.insert(s);
+                queue.push_back(t);
+            }
+        }
+    }
+    vec![entry]
+}
+
+/// The trace of `path`, then one round of `cycle` by the owner's instance
+/// standing at its entry, then the violation.
+fn lasso(engine: &Engine<'_>, path: &[G3Action], owner: Owner, cycle: &Cycle) -> Trace {
+    let mut trace = super::trace::render(engine, path);
+    let fsm = engine.m.fsm(owner);
+    let loop_start = trace.steps.len();
+    let task = &engine.m.tasks[engine.m.task_of(owner)].name;
+    for (k, &s) in cycle.states.iter().enumerate() {
+        let next = cycle.states[(k + 1) % cycle.states.len()];
+        let state = &fsm.states[usize::from(s)];
+        let to = &fsm.states[usize::from(next)].name;
+        let mut step = super::trace::codel_step(engine, owner, s, to);
+        step.text = format!(
+            "task `{task}` runs codel `{}` of {} in state `{}`, which yields `{to}` without `pause::`: the task sweeps again at once",
+            state.function,
+            describe(engine, owner),
+            state.name
+        );
+        trace.steps.push(step);
+    }
+    let mut v = TraceStep::new(
+        Event::Violation,
+        format!(
+            "{} can go round states {} forever without `pause::`: task `{task}` never waits for its next wake-up",
+            describe(engine, owner),
+            names(fsm, &cycle.states)
+        ),
+    );
+    v.thread = Some(task.clone());
+    trace.steps.push(v);
+    trace.loop_start = Some(loop_start);
+    trace
+}
+
+/// `activity `a`` or `the permanent activity of task `t``.
+pub fn describe(engine: &Engine<'_>, owner: Owner) -> String {
+    match owner {
+        Owner::Activity(a) => format!("activity `{}`", engine.m.activity_name(a)),
+        Owner::Task(t) => format!(
+            "the permanent activity of task `{}`",
+            engine.m.tasks[t].name
+        ),
+    }
+}
+
+/// `` `a` → `b` → `a` `` for a round of states.
+pub fn names(fsm: &Fsm, states: &[u8]) -> String {
+    let mut v: Vec<String> = states
+        .iter()
+        .map(|&s| format!("`{}`", fsm.states[usize::from(s)].name))
+        .collect();
+    if let Some(first) = v.first().cloned() {
+        v.push(first);
+    }
+    v.join(" → ")
+}
+
+impl Engine<'_> {
+    /// Replays `path` from the initial state: every state, initial first.
+    pub fn states_along(&self, path: &[G3Action]) -> Vec<G3State> {
+        let mut s = self.initial();
+        let mut out = vec![s.clone()];
+        for &a in path {
+            if let Some(n) = self.next_state(&s, a) {
+                s = n;
+            }
+            out.push(s.clone());
+        }
+        out
+    }
+}

@@ -1,0 +1,373 @@
+//! The GenoM3 component as the GenoM3 engine reads it: each activity's and
+//! each task's codel state machine (states, yields, `pause::`, `async`),
+//! who interrupts whom, `after`/`before`, and which control services are
+//! the built-in `kill` and `abort_activity`. Built once from the resolved
+//! [`Component`] and its [`Genom3Info`]; every step of the engine reads it.
+
+use std::collections::BTreeMap;
+
+use genom_model::component::genom3::{FsmCodel, Genom3Info};
+use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
+use genom_model::span::Span;
+
+/// Where a yield leads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// Another state (index into [`Fsm::states`]); `pause` for `pause::`.
+    State { state: u8, pause: bool },
+    /// `ether`: the instance ends successfully.
+    Ether,
+}
+
+/// One state of a codel state machine and the codel that runs in it.
+#[derive(Debug, Clone)]
+pub struct FsmState {
+    /// The state's name (`start`, `stop`, user states).
+    pub name: String,
+    /// The codel function.
+    pub function: String,
+    /// The model codel standing for it (activities only).
+    pub codel: Option<CodelId>,
+    /// The FSM codel's span.
+    pub span: Span,
+    /// Where its yields lead, in the written order.
+    pub yields: Vec<Target>,
+    /// `async`: may block on an external event, the task does not spin.
+    pub is_async: bool,
+}
+
+/// A codel state machine (an activity's or a task's permanent one).
+#[derive(Debug, Clone, Default)]
+pub struct Fsm {
+    /// Its states.
+    pub states: Vec<FsmState>,
+    /// The `start` state.
+    pub start: Option<u8>,
+    /// The `stop` state.
+    pub stop: Option<u8>,
+}
+
+impl Fsm {
+    /// Reads the FSM codels of one owner; `codel_of` names the model codel
+    /// of a state, if any.
+    fn build(codels: &[&FsmCodel], codel_of: impl Fn(&str) -> Option<CodelId>) -> Fsm {
+        let mut index: BTreeMap<&str, u8> = BTreeMap::new();
+        let mut states = Vec::new();
+        for fsm in codels {
+            for s in &fsm.states {
+                if index.contains_key(s.name.as_str()) || states.len() >= usize::from(u8::MAX) {
+                    continue;
+                }
+                index.insert(&s.name, states.len() as u8);
+                states.push(FsmState {
+                    name: s.name.clone(),
+                    function: fsm.function.name.clone(),
+                    codel: codel_of(&s.name),
+                    span: fsm.span,
+                    yields: Vec::new(),
+                    is_async: fsm.is_async,
+                });
+            }
+        }
+        for fsm in codels {
+            let yields: Vec<Target> = fsm
+                .yields
+                .iter()
+                .filter_map(|y| match index.get(y.state.name.as_str()) {
+                    Some(&state) => Some(Target::State {
+                        state,
+                        pause: y.pause,
+                    }),
+                    None => (y.state.name == "ether").then_some(Target::Ether),
+                })
+                .collect();
+            for s in &fsm.states {
+                if let Some(&i) = index.get(s.name.as_str()) {
+                    states[usize::from(i)].yields.clone_from(&yields);
+                }
+            }
+        }
+        Fsm {
+            start: index.get("start").copied(),
+            stop: index.get("stop").copied(),
+            states,
+        }
+    }
+
+    /// States `s` leads to without `pause::` (the chain a sweep runs).
+    pub fn unpaused(&self, s: u8) -> impl Iterator<Item = u8> + '_ {
+        self.states[usize::from(s)]
+            .yields
+            .iter()
+            .filter_map(|t| match *t {
+                Target::State {
+                    state,
+                    pause: false,
+                } => Some(state),
+                _ => None,
+            })
+    }
+}
+
+/// An activity: a service run by a task, one instance per request.
+#[derive(Debug, Clone)]
+pub struct Activity {
+    /// The service.
+    pub service: ServiceId,
+    /// Index of its task in [`Machine::tasks`].
+    pub task: usize,
+    /// Its codel state machine.
+    pub fsm: Fsm,
+    /// Activities it interrupts (itself included when it does).
+    pub interrupts: Vec<usize>,
+}
+
+/// What a control service (function or attribute) does besides its codels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ControlKind {
+    /// An ordinary function or attribute.
+    Plain,
+    /// The built-in `kill`: interrupts everything, then shuts down.
+    Kill,
+    /// The built-in `abort_activity`: interrupts one instance.
+    Abort,
+}
+
+/// A function or attribute, run on the control thread.
+#[derive(Debug, Clone)]
+pub struct Control {
+    /// The service.
+    pub service: ServiceId,
+    /// What it does.
+    pub kind: ControlKind,
+    /// A service of the built-in `genom` interface.
+    pub builtin: bool,
+    /// Activities it interrupts after its codels succeeded.
+    pub interrupts: Vec<usize>,
+}
+
+/// A task: a thread with its permanent state machine.
+#[derive(Debug, Clone)]
+pub struct TaskM {
+    /// The thread.
+    pub thread: ThreadId,
+    /// Its name.
+    pub name: String,
+    /// Its permanent codels (`None` without any).
+    pub perm: Option<Fsm>,
+}
+
+/// The GenoM3 component as the engine reads it.
+#[derive(Debug, Clone)]
+pub struct Machine<'a> {
+    /// The component.
+    pub c: &'a Component,
+    /// Its tasks, in declaration order.
+    pub tasks: Vec<TaskM>,
+    /// Its activities.
+    pub activities: Vec<Activity>,
+    /// Its functions and attributes.
+    pub controls: Vec<Control>,
+    /// Per service: the activity or control standing for it.
+    pub role: BTreeMap<ServiceId, Role>,
+    /// Per service: `after` services.
+    pub after: BTreeMap<ServiceId, Vec<ServiceId>>,
+    /// Per service: `before` services.
+    pub before: BTreeMap<ServiceId, Vec<ServiceId>>,
+    /// The most instances of one activity explored at once.
+    pub max_instances: usize,
+    /// Slots of one task (its permanent activity included).
+    pub pool: usize,
+}
+
+/// What a service is to the engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// Index into [`Machine::activities`].
+    Activity(usize),
+    /// Index into [`Machine::controls`].
+    Control(usize),
+}
+
+/// Slots per task in GenoM3's templates (genom3-ros `MAX_ACTIVITIES`).
+pub const POOL: usize = 32;
+
+impl<'a> Machine<'a> {
+    /// Reads a GenoM3 component; `None` for a LANGUAGE.md one.
+    pub fn new(c: &'a Component, max_instances: usize) -> Option<Machine<'a>> {
+        let g = c.genom3.as_deref()?;
+        let tasks = tasks(c, g);
+        let task_of: BTreeMap<ThreadId, usize> = tasks
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (t.thread, i))
+            .collect();
+        let mut role = BTreeMap::new();
+        let mut activities = Vec::new();
+        for (sid, s) in c.services.iter() {
+            let Some(task) = s.thread.and_then(|t| task_of.get(&t.id).copied()) else {
+                continue;
+            };
+            role.insert(sid, Role::Activity(activities.len()));
+            activities.push(Activity {
+                service: sid,
+                task,
+                fsm: service_fsm(c, g, sid),
+                interrupts: Vec::new(),
+            });
+        }
+        let mut controls = Vec::new();
+        for (sid, s) in c.services.iter() {
+            if role.contains_key(&sid) {
+                continue;
+            }
+            let builtin = g.services.iter().find(|i| i.service == sid);
+            let genom = builtin.is_some_and(|i| i.interface.as_deref() == Some("genom"));
+            let kind = match s.name.name.as_str() {
+                "kill" if genom => ControlKind::Kill,
+                "abort_activity" if genom => ControlKind::Abort,
+                _ => ControlKind::Plain,
+            };
+            role.insert(sid, Role::Control(controls.len()));
+            controls.push(Control {
+                service: sid,
+                kind,
+                builtin: genom,
+                interrupts: Vec::new(),
+            });
+        }
+        let targets = |sid: ServiceId| -> Vec<usize> {
+            let mut out: Vec<usize> = c.services[sid]
+                .stops
+                .iter()
+                .filter_map(|r| match role.get(&r.id) {
+                    Some(Role::Activity(a)) => Some(*a),
+                    _ => None,
+                })
+                .collect();
+            out.sort_unstable();
+            out.dedup();
+            out
+        };
+        for a in &mut activities {
+            a.interrupts = targets(a.service);
+        }
+        for k in &mut controls {
+            k.interrupts = match k.kind {
+                ControlKind::Kill => (0..activities.len()).collect(),
+                _ => targets(k.service),
+            };
+        }
+        let mut after = BTreeMap::new();
+        let mut before = BTreeMap::new();
+        for i in &g.services {
+            after.insert(i.service, i.after.iter().map(|r| r.id).collect());
+            before.insert(i.service, i.before.iter().map(|r| r.id).collect());
+        }
+        Some(Machine {
+            c,
+            tasks,
+            activities,
+            controls,
+            role,
+            after,
+            before,
+            max_instances: max_instances.clamp(1, POOL - 1),
+            pool: POOL,
+        })
+    }
+
+    /// The name of service `s`.
+    pub fn service_name(&self, s: ServiceId) -> &str {
+        &self.c.services[s].name.name
+    }
+
+    /// Whether `s` is a service of the built-in `genom` interface.
+    pub fn is_builtin(&self, s: ServiceId) -> bool {
+        matches!(self.role.get(&s), Some(Role::Control(k)) if self.controls[*k].builtin)
+    }
+
+    /// The name of activity `a`.
+    pub fn activity_name(&self, a: usize) -> &str {
+        self.service_name(self.activities[a].service)
+    }
+
+    /// The codel state machine of activity `a`.
+    pub fn fsm(&self, owner: Owner) -> &Fsm {
+        match owner {
+            Owner::Activity(a) => &self.activities[a].fsm,
+            Owner::Task(t) => self.tasks[t].perm.as_ref().unwrap_or(&EMPTY),
+        }
+    }
+
+    /// The name of an owner: the activity, or `task T` for a permanent one.
+    pub fn owner_name(&self, owner: Owner) -> String {
+        match owner {
+            Owner::Activity(a) => self.activity_name(a).to_owned(),
+            Owner::Task(t) => format!("task {}", self.tasks[t].name),
+        }
+    }
+
+    /// The task an owner runs on.
+    pub fn task_of(&self, owner: Owner) -> usize {
+        match owner {
+            Owner::Activity(a) => self.activities[a].task,
+            Owner::Task(t) => t,
+        }
+    }
+}
+
+static EMPTY: Fsm = Fsm {
+    states: Vec::new(),
+    start: None,
+    stop: None,
+};
+
+/// Whose state machine: an activity's or a task's permanent one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Owner {
+    /// Index into [`Machine::activities`].
+    Activity(usize),
+    /// Index into [`Machine::tasks`].
+    Task(usize),
+}
+
+fn tasks(c: &Component, g: &Genom3Info) -> Vec<TaskM> {
+    c.threads
+        .iter()
+        .map(|(tid, t)| {
+            let codels: Vec<&FsmCodel> = g
+                .tasks
+                .iter()
+                .filter(|k| k.thread == tid)
+                .flat_map(|k| k.codels.iter())
+                .collect();
+            TaskM {
+                thread: tid,
+                name: t.name.name.clone(),
+                perm: (!codels.is_empty()).then(|| Fsm::build(&codels, |_| None)),
+            }
+        })
+        .collect()
+}
+
+fn service_fsm(c: &Component, g: &Genom3Info, sid: ServiceId) -> Fsm {
+    let s = &c.services[sid];
+    let infos: Vec<_> = g
+        .codels
+        .iter()
+        .filter(|i| s.codels.contains(&i.codel))
+        .collect();
+    let mut seen: Vec<&FsmCodel> = Vec::new();
+    for i in &infos {
+        if !seen.iter().any(|f| f.span == i.fsm.span) {
+            seen.push(&i.fsm);
+        }
+    }
+    Fsm::build(&seen, |state| {
+        infos
+            .iter()
+            .find(|i| c.codels[i.codel].name.name == state)
+            .map(|i| i.codel)
+    })
+}

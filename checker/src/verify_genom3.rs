@@ -1,0 +1,147 @@
+//! The behavioural stage of a GenoM3 check: the GenoM3 engine
+//! ([`crate::genom3`]) explores the component under GenoM3's own execution
+//! semantics, and its findings become diagnostics: `dead-service` (never
+//! accepted or started), `unreachable-codel` (a codel of an activity or of
+//! a task's permanent machine that no execution runs), `livelock` and
+//! `unpaused-loop`, and `incomplete` when a limit stopped it.
+
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+use genom_model::component::{Component, ServiceId};
+use genom_model::{Diagnostic, Statistics, Trace};
+
+use crate::checks::{dead_service, incomplete, livelock, unreachable_codel};
+use crate::genom3::{G3Analysis, Machine, Owner, analyse_genom3, machine::Fsm};
+use crate::verify::CheckOptions;
+
+/// Explores a GenoM3 component; its diagnostics and figures (`None` for a
+/// LANGUAGE.md component).
+pub fn verify_genom3(
+    c: &Component,
+    options: &CheckOptions,
+    started: Instant,
+) -> Option<(Vec<Diagnostic>, Statistics)> {
+    let n = options.instance_bound();
+    let analysis = analyse_genom3(c, n, options.limits(started))?;
+    let m = Machine::new(c, n)?;
+    let mut out = Vec::new();
+    if analysis.stopped.is_none() {
+        out.extend(dead_services(c, &m, &analysis));
+        out.extend(unreached_codels(&m, &analysis));
+    }
+    out.extend(livelock::check(c, &analysis, n));
+    if let Some(stop) = analysis.stopped {
+        out.push(incomplete::incomplete(
+            c,
+            stop,
+            "dead services, codel reachability and livelocks (GenoM3 semantics)",
+        ));
+    }
+    let stats = Statistics {
+        states: analysis.states,
+        transitions: analysis.transitions,
+        time_ms: started.elapsed().as_secs_f64() * 1000.0,
+        complete: analysis.stopped.is_none(),
+        bytes_per_state: Some(analysis.bytes_per_state),
+    };
+    Some((out, stats))
+}
+
+/// Services no execution accepts (an activity: starts), with the reason.
+fn dead_services(c: &Component, m: &Machine<'_>, a: &G3Analysis) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    for (sid, _) in c.services.iter() {
+        if a.started.contains(&sid) || m.is_builtin(sid) {
+            continue;
+        }
+        let reason = dead_reason(m, a, sid);
+        out.push(dead_service::dead_service(
+            c,
+            sid,
+            &reason,
+            Trace::default(),
+        ));
+    }
+    out
+}
+
+fn dead_reason(m: &Machine<'_>, a: &G3Analysis, sid: ServiceId) -> String {
+    let names = |v: Vec<ServiceId>| -> String {
+        v.iter()
+            .map(|s| format!("`{}`", m.service_name(*s)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let never: Vec<ServiceId> = m
+        .after
+        .get(&sid)
+        .into_iter()
+        .flatten()
+        .copied()
+        .filter(|x| !a.completed.contains(x))
+        .collect();
+    if !never.is_empty() {
+        return format!(
+            "it is declared `after` {}, which no execution completes successfully: every request is refused with `genom::disallowed`",
+            names(never)
+        );
+    }
+    "every accepted request waits forever for the instances it interrupts to end (a stop path that never reaches `ether`)".to_owned()
+}
+
+/// Codels that the state machine leads to (from `start`, or from `stop`
+/// after an interruption) but no execution runs; dead services are left to
+/// `dead-service`.
+fn unreached_codels(m: &Machine<'_>, a: &G3Analysis) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let owners = (0..m.activities.len())
+        .map(Owner::Activity)
+        .chain((0..m.tasks.len()).map(Owner::Task));
+    for owner in owners {
+        if let Owner::Activity(x) = owner {
+            if !a.started.contains(&m.activities[x].service) {
+                continue;
+            }
+        }
+        let fsm = m.fsm(owner);
+        let mut seen_spans = BTreeSet::new();
+        for s in statically_reachable(fsm) {
+            if a.reached.contains(&(owner, s)) {
+                continue;
+            }
+            let st = &fsm.states[usize::from(s)];
+            if !seen_spans.insert((st.span, st.name.clone())) {
+                continue;
+            }
+            let who = match owner {
+                Owner::Activity(x) => format!("activity `{}`", m.activity_name(x)),
+                Owner::Task(t) => format!("task `{}`", m.tasks[t].name),
+            };
+            out.push(unreachable_codel::never_run_genom3(
+                &who,
+                &st.name,
+                &st.function,
+                st.span,
+            ));
+        }
+    }
+    out
+}
+
+/// States some path of yields reaches from `start` or from `stop`.
+fn statically_reachable(fsm: &Fsm) -> BTreeSet<u8> {
+    let mut seen = BTreeSet::new();
+    let mut todo: Vec<u8> = fsm.start.into_iter().chain(fsm.stop).collect();
+    while let Some(s) = todo.pop() {
+        if !seen.insert(s) {
+            continue;
+        }
+        for t in &fsm.states[usize::from(s)].yields {
+            if let crate::genom3::machine::Target::State { state, .. } = *t {
+                todo.push(state);
+            }
+        }
+    }
+    seen
+}
