@@ -1,0 +1,184 @@
+//! GenoM3's execution semantics, point by point (issue 13): each fixture of
+//! `tests/fixtures/genom3/semantics/` has the verdict GenoM3's engine gives
+//! it, which differs from the verdict of the LANGUAGE.md semantics run on
+//! the same lowered model (the "naive" reading). Every trace is replayed by
+//! the independent replay (`genom_checker::replay::genom3`), and the
+//! verdicts do not change with more instances of each activity.
+
+use std::path::Path;
+
+use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
+use genom_checker::engine::{Limits, analyse_with};
+use genom_checker::genom3::{G3Analysis, Owner, analyse_genom3};
+use genom_model::component::Component;
+use genom_model::trace::Event;
+use genom_model::{Code, Diagnostic, Severity};
+
+const DIR: &str = "tests/fixtures/genom3/semantics";
+
+fn check(name: &str) -> CheckResult {
+    let path = Path::new(DIR).join(name);
+    check_path(&path, &Inputs::default(), &CheckOptions::new()).unwrap()
+}
+
+/// Error and warning codes with the first word in backquotes of their
+/// message (the service or activity), sorted.
+fn findings(r: &CheckResult) -> Vec<(Code, String)> {
+    let mut v: Vec<(Code, String)> = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity != Severity::Advice && d.code != Code::NoTermination)
+        .map(|d| (d.code, named(d)))
+        .collect();
+    v.sort();
+    v
+}
+
+fn named(d: &Diagnostic) -> String {
+    d.message.split('`').nth(1).unwrap_or_default().to_owned()
+}
+
+fn component(r: &CheckResult) -> &Component {
+    r.component.as_ref().expect("a component")
+}
+
+fn analysis(c: &Component, n: usize) -> G3Analysis {
+    analyse_genom3(c, n, Limits::default()).expect("a GenoM3 component")
+}
+
+/// Every trace of a GenoM3 verdict replays, and a lasso ends with its
+/// violation.
+fn assert_traces_replay(r: &CheckResult) {
+    let c = component(r);
+    for d in &r.diagnostics {
+        let Some(t) = &d.trace else { continue };
+        if t.steps.is_empty() {
+            continue;
+        }
+        genom_checker::replay::genom3::replay_genom3(c, t)
+            .unwrap_or_else(|e| panic!("{}: {e}\n{t:#?}", d.message));
+        if matches!(d.code, Code::Livelock | Code::UnpausedLoop) {
+            assert!(t.loop_start.is_some());
+            assert_eq!(t.steps.last().map(|s| s.event), Some(Event::Violation));
+        }
+    }
+}
+
+#[test]
+fn point_1_an_unpaused_cycle_is_a_livelock_with_a_replayed_lasso() {
+    let r = check("f1a_livelock.gen");
+    assert_eq!(findings(&r), [(Code::Livelock, "spin".to_owned())]);
+    assert_traces_replay(&r);
+    let d = r.diagnostics.iter().find(|d| d.code == Code::Livelock).unwrap();
+    let t = d.trace.as_ref().unwrap();
+    let round = &t.steps[t.loop_start.unwrap()..t.steps.len() - 1];
+    assert_eq!(round.len(), 1);
+    assert_eq!(
+        (round[0].codel.as_deref(), round[0].outcome.as_deref()),
+        (Some("step"), Some("step"))
+    );
+    // With a way out of the cycle: a warning, not an error.
+    let r = check("f1c_unpaused_loop.gen");
+    assert_eq!(findings(&r), [(Code::UnpausedLoop, "count".to_owned())]);
+    assert_traces_replay(&r);
+}
+
+#[test]
+fn point_2_pause_on_an_aperiodic_task_is_no_loop() {
+    let r = check("f2_pause_aperiodic.gen");
+    assert_eq!(findings(&r), []);
+    let a = analysis(component(&r), 1);
+    assert!(a.livelocks.is_empty());
+    // `sleep` is run (the paused instance resumes).
+    assert!(a.reached.iter().any(|(o, s)| matches!(o, Owner::Activity(_)) && *s > 0));
+}
+
+#[test]
+fn point_3_permanent_codels_run_from_start_to_shutdown() {
+    let r = check("f3_permanent.gen");
+    assert_eq!(findings(&r), []);
+    let a = analysis(component(&r), 1);
+    // Task `t` (the first) runs start, main and, at kill, stop.
+    let perm: Vec<u8> = a
+        .reached
+        .iter()
+        .filter(|(o, _)| *o == Owner::Task(0))
+        .map(|(_, s)| *s)
+        .collect();
+    assert_eq!(perm.len(), 3, "{perm:?}");
+}
+
+#[test]
+fn point_5_an_after_cycle_makes_its_services_dead() {
+    let r = check("f5_after_cycle.gen");
+    assert_eq!(
+        findings(&r),
+        [
+            (Code::DeadService, "left".to_owned()),
+            (Code::DeadService, "right".to_owned())
+        ]
+    );
+    let d = &r.diagnostics[0];
+    assert!(d.help.as_deref().unwrap().contains("genom::disallowed"), "{d:?}");
+    // Naive (after/before ignored): nothing is dead.
+    let naive = analyse_with(component(&r), Limits::default(), true);
+    assert!(naive.dead.is_empty());
+}
+
+#[test]
+fn point_6_a_stop_path_reaching_ether_is_a_success() {
+    let r = check("f6_interrupt_stop.gen");
+    assert_eq!(findings(&r), []);
+    // Without a stop codel the interrupted `servo` never succeeds.
+    let r = check("f6b_interrupt_no_stop.gen");
+    assert_eq!(findings(&r), [(Code::DeadService, "next".to_owned())]);
+    let naive = analyse_with(component(&r), Limits::default(), true);
+    assert!(naive.dead.is_empty());
+}
+
+#[test]
+fn point_8_a_cycle_through_an_async_codel_is_no_livelock() {
+    let r = check("f8_async.gen");
+    assert_eq!(findings(&r), []);
+    // The same component without `async`: a livelock of task `io`.
+    let text = std::fs::read_to_string(Path::new(DIR).join("f8_async.gen"))
+        .unwrap()
+        .replace("async codel", "codel");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("f8_sync.gen");
+    std::fs::write(&path, text).unwrap();
+    let r = check_path(&path, &Inputs::default(), &CheckOptions::new()).unwrap();
+    assert_eq!(findings(&r), [(Code::UnpausedLoop, "io".to_owned())]);
+    assert_traces_replay(&r);
+}
+
+#[test]
+fn point_10_an_activity_ending_only_by_exception_never_completes() {
+    let r = check("f10_exceptions.gen");
+    assert_eq!(findings(&r), [(Code::DeadService, "next".to_owned())]);
+    let naive = analyse_with(component(&r), Limits::default(), true);
+    assert!(naive.dead.is_empty());
+}
+
+#[test]
+fn verdicts_do_not_change_with_more_instances() {
+    for entry in std::fs::read_dir(DIR).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        let r = check(&name);
+        let c = component(&r);
+        let one = analysis(c, 1);
+        for n in [2, 3] {
+            let more = analysis(c, n);
+            assert!(more.states >= one.states, "{name}");
+            assert_eq!(
+                (&more.started, &more.completed, &more.reached),
+                (&one.started, &one.completed, &one.reached),
+                "{name} with {n} instances"
+            );
+            let cycles = |a: &G3Analysis| -> Vec<_> {
+                a.livelocks.iter().map(|l| l.cycle.clone()).collect()
+            };
+            assert_eq!(cycles(&more), cycles(&one), "{name}");
+        }
+    }
+}
