@@ -127,7 +127,8 @@ pub struct CheckArgs {
     /// GenoM3: explore up to N instances of one activity at once (at most 31,
     /// GenoM3's slots per task). One gives the untimed verdicts exactly;
     /// more only cross-checks that.
-    #[arg(long, value_name = "N", default_value_t = genom_checker::DEFAULT_MAX_INSTANCES)]
+    #[arg(long, value_name = "N", default_value_t = genom_checker::DEFAULT_MAX_INSTANCES,
+          value_parser = parse_instances)]
     pub max_instances: usize,
 }
 
@@ -190,6 +191,18 @@ fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
         return Err(format!("`{text}` must be positive"));
     }
     Ok(parsed)
+}
+
+/// Parses `--max-instances`: 1 to 31 (GenoM3's slots per task less the
+/// permanent activity).
+fn parse_instances(text: &str) -> Result<usize, String> {
+    let max = genom_checker::genom3::POOL - 1;
+    match text.trim().parse::<usize>() {
+        Ok(n) if (1..=max).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "`{text}` is not a number of instances from 1 to {max} (GenoM3 runs at most {max} per task)"
+        )),
+    }
 }
 
 /// Parses `512M`, `4G`, `1.5G`, `100k` (binary multiples), a byte count,
@@ -474,5 +487,15 @@ mod tests {
         );
         assert!(parse_duration("0s").is_err());
         assert!(parse_duration("soon").is_err());
+    }
+
+    #[test]
+    fn instances_are_bounded_by_genom3_slots() {
+        assert_eq!(parse_instances("1"), Ok(1));
+        assert_eq!(parse_instances("31"), Ok(31));
+        for bad in ["0", "32", "many", "-1"] {
+            let e = parse_instances(bad).unwrap_err();
+            assert!(e.contains("from 1 to 31"), "{e}");
+        }
     }
 }

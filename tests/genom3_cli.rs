@@ -103,7 +103,10 @@ fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
     assert_eq!(codes(&file, "error"), ["incomplete"]);
     let d = &file["diagnostics"][0];
     assert!(d["message"].as_str().unwrap().contains("GenoM3"), "{d:#}");
-    assert!(d["help"].as_str().unwrap().contains("thread-overrun"), "{d:#}");
+    assert!(
+        d["help"].as_str().unwrap().contains("thread-overrun"),
+        "{d:#}"
+    );
     assert_eq!(
         (d["line"].as_u64(), d["file"].as_str()),
         (Some(7), Some(DEMO))
@@ -117,6 +120,38 @@ fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
     assert_eq!(refused.status.code(), Some(1));
     let stdout = String::from_utf8_lossy(&refused.stdout);
     assert!(stdout.contains("incomplete"), "{stdout}");
+}
+
+#[test]
+fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
+    // Verified (untimed) and clean, but the UPPAAL model would have
+    // LANGUAGE.md's semantics: refused, allowed only marked unverified.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo.xml");
+    let refused = genom_check()
+        .args(["export", "uppaal", DEMO, "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("not GenoM3's"), "{stderr}");
+    assert!(!out.exists());
+    let marked = genom_check()
+        .args(["export", "uppaal", "--allow-unverified", DEMO, "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(marked.status.code(), Some(0));
+    // A diagram draws structure only: exported as verified.
+    let dot = dir.path().join("demo.dot");
+    let drawn = genom_check()
+        .args(["export", "dot", DEMO, "-o"])
+        .arg(&dot)
+        .output()
+        .unwrap();
+    assert_eq!(drawn.status.code(), Some(0), "{drawn:?}");
+    assert!(std::fs::read_to_string(&dot).unwrap().contains("digraph"));
 }
 
 #[test]

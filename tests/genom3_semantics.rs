@@ -5,6 +5,8 @@
 //! the independent replay (`genom_checker::replay::genom3`), and the
 //! verdicts do not change with more instances of each activity.
 
+#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
+
 use std::path::Path;
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
@@ -69,7 +71,11 @@ fn point_1_an_unpaused_cycle_is_a_livelock_with_a_replayed_lasso() {
     let r = check("f1a_livelock.gen");
     assert_eq!(findings(&r), [(Code::Livelock, "spin".to_owned())]);
     assert_traces_replay(&r);
-    let d = r.diagnostics.iter().find(|d| d.code == Code::Livelock).unwrap();
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::Livelock)
+        .unwrap();
     let t = d.trace.as_ref().unwrap();
     let round = &t.steps[t.loop_start.unwrap()..t.steps.len() - 1];
     assert_eq!(round.len(), 1);
@@ -90,7 +96,11 @@ fn point_2_pause_on_an_aperiodic_task_is_no_loop() {
     let a = analysis(component(&r), 1);
     assert!(a.livelocks.is_empty());
     // `sleep` is run (the paused instance resumes).
-    assert!(a.reached.iter().any(|(o, s)| matches!(o, Owner::Activity(_)) && *s > 0));
+    assert!(
+        a.reached
+            .iter()
+            .any(|(o, s)| matches!(o, Owner::Activity(_)) && *s > 0)
+    );
 }
 
 #[test]
@@ -119,7 +129,10 @@ fn point_5_an_after_cycle_makes_its_services_dead() {
         ]
     );
     let d = &r.diagnostics[0];
-    assert!(d.help.as_deref().unwrap().contains("genom::disallowed"), "{d:?}");
+    assert!(
+        d.help.as_deref().unwrap().contains("genom::disallowed"),
+        "{d:?}"
+    );
     // Naive (after/before ignored): nothing is dead.
     let naive = analyse_with(component(&r), Limits::default(), true);
     assert!(naive.dead.is_empty());
@@ -148,7 +161,7 @@ fn point_8_a_cycle_through_an_async_codel_is_no_livelock() {
     let path = dir.path().join("f8_sync.gen");
     std::fs::write(&path, text).unwrap();
     let r = check_path(&path, &Inputs::default(), &CheckOptions::new()).unwrap();
-    assert_eq!(findings(&r), [(Code::UnpausedLoop, "io".to_owned())]);
+    assert_eq!(findings(&r), [(Code::Livelock, "io".to_owned())]);
     assert_traces_replay(&r);
 }
 
@@ -158,6 +171,22 @@ fn point_10_an_activity_ending_only_by_exception_never_completes() {
     assert_eq!(findings(&r), [(Code::DeadService, "next".to_owned())]);
     let naive = analyse_with(component(&r), Limits::default(), true);
     assert!(naive.dead.is_empty());
+}
+
+#[test]
+fn the_tasks_start_in_order_before_any_request() {
+    let r = check("perm_boot.gen");
+    assert_eq!(findings(&r), [(Code::UnpausedLoop, "n".to_owned())]);
+    assert_traces_replay(&r);
+    let d = &r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::UnpausedLoop)
+        .unwrap();
+    let t = d.trace.as_ref().unwrap();
+    // Task `m` starts first (its start codel, not an exception), then `n`.
+    assert_eq!(t.steps[1].thread.as_deref(), Some("m"));
+    assert_eq!(t.steps[1].outcome.as_deref(), Some("main"));
 }
 
 #[test]

@@ -28,8 +28,13 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
-    let verification = verification(&result);
-    if let Some(status) = refuse(args, output, &shown, &result, &verification) {
+    let mut verification = verification(&result);
+    let foreign = models_foreign_semantics(args, &result);
+    if foreign {
+        verification.verified = false;
+        verification.properties.clear();
+    }
+    if let Some(status) = refuse(args, output, &shown, &result, &verification, foreign) {
         return status;
     }
     let Some(component) = &result.component else {
@@ -66,8 +71,19 @@ fn refuse(
     shown: &str,
     result: &CheckResult,
     verification: &Verification,
+    foreign: bool,
 ) -> Option<u8> {
     let denied = output.deny == Some(Deny::Warnings) && verification.counts.warnings > 0;
+    let reasons = |v: &Verification, denied: bool| {
+        let mut r = reasons(v, denied);
+        if foreign {
+            if !r.is_empty() {
+                r.push_str(", ");
+            }
+            r.push_str("this export models LANGUAGE.md's execution semantics, not GenoM3's (not implemented yet for GenoM3 components)");
+        }
+        r
+    };
     if verification.verified && !denied {
         return None;
     }
@@ -114,6 +130,13 @@ fn format(f: ExportFormat) -> Format {
         ExportFormat::Svg => Format::Svg,
         ExportFormat::Promela => Format::Promela,
     }
+}
+
+/// Whether the export would model a GenoM3 component with LANGUAGE.md's
+/// semantics (every behavioural format; the diagrams only draw structure).
+fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
+    result.dialect == genom_model::Dialect::Genom3
+        && !matches!(args.target, ExportFormat::Dot | ExportFormat::Svg)
 }
 
 /// What the check established.

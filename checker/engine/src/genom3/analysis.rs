@@ -87,11 +87,14 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
             for (w, d) in done.iter_mut().zip(&s.done) {
                 *w |= d;
             }
-            if perms && booted.is_none() && s.phase != Phase::Boot {
+            if perms && booted.is_none() && s.phase == Phase::Run {
                 booted = Some(id);
             }
             for (owner, i) in running(s) {
                 out.reached.insert((owner, i.state));
+                if !may_run(s, owner) {
+                    continue;
+                }
                 if let Owner::Activity(a) = owner {
                     out.started.insert(engine.m.activities[a].service);
                 }
@@ -133,6 +136,15 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
     Some(out)
+}
+
+/// Whether `owner` may run its codel in `s`: during the boot, a task's
+/// permanent activity waits until the tasks before it started.
+fn may_run(s: &G3State, owner: Owner) -> bool {
+    match owner {
+        Owner::Task(t) => s.phase != Phase::Boot || t <= usize::from(s.booted),
+        Owner::Activity(_) => true,
+    }
 }
 
 /// Every started instance and permanent activity of a state.

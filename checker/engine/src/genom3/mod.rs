@@ -22,6 +22,8 @@ pub mod machine;
 pub mod parts;
 pub mod state;
 pub mod steps;
+#[cfg(test)]
+mod tests;
 pub mod trace;
 
 pub use analysis::{Cycle, G3Analysis, Livelock, analyse_genom3, unpaused_cycles};

@@ -134,12 +134,14 @@ impl<'a> Engine<'a> {
         stopping
     }
 
-    /// Interrupts the targets of activity `a` (a new or pending instance of
-    /// it); whether it must wait for one of them to end.
-    fn interrupt_for(&self, s: &mut G3State, a: usize) -> bool {
+    /// Interrupts the targets of activity `a` (for a new instance of it, or,
+    /// `pending`, for one re-examined while it waits: then its own activity's
+    /// instances not started yet are spared); whether it must wait for one
+    /// of them to end.
+    fn interrupt_for(&self, s: &mut G3State, a: usize, pending: bool) -> bool {
         let mut delay = false;
         for &t in &self.m.activities[a].interrupts {
-            delay |= self.flag(s, t, t == a);
+            delay |= self.flag(s, t, pending && t == a);
         }
         delay
     }
@@ -175,12 +177,12 @@ impl<'a> Engine<'a> {
                     continue;
                 }
                 let old = s.inst[a].clone();
-                let delay = self.interrupt_for(s, a);
-                if let Some(pos) = s.inst[a].iter().position(|i| i.status == Status::Delayed) {
-                    if !delay {
-                        s.inst[a][pos].status = Status::Ready;
-                        s.inst[a].sort_unstable();
+                let delay = self.interrupt_for(s, a, true);
+                if !delay {
+                    for i in s.inst[a].iter_mut().filter(|i| i.status == Status::Delayed) {
+                        i.status = Status::Ready;
                     }
+                    s.inst[a].sort_unstable();
                 }
                 changed |= s.inst[a] != old;
             }
@@ -286,7 +288,7 @@ impl<'a> Engine<'a> {
         match action {
             G3Action::Accept(a) => {
                 let a = usize::from(a);
-                let delay = self.interrupt_for(s, a);
+                let delay = self.interrupt_for(s, a, false);
                 let status = if delay {
                     Status::Delayed
                 } else {

@@ -74,6 +74,7 @@
 //! codel), so that they can repeat forever.
 
 mod claims;
+pub mod genom3;
 mod requests;
 mod state;
 mod steps;

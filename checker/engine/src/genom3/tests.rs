@@ -1,0 +1,118 @@
+//! Tests of the GenoM3 engine's rules on small components: interrupters
+//! waiting for stop paths, the `kill` shutdown, the boot order.
+
+use std::path::Path;
+
+use genom_genom3::Genom3Options;
+use genom_model::Severity;
+use genom_model::component::{Component, Idx};
+
+use super::machine::{Machine, Role};
+use super::state::{G3State, Phase, Status};
+use super::steps::{Engine, G3Action};
+use crate::engine::explore::Model;
+
+fn load(text: &str) -> Component {
+    let options = Genom3Options {
+        use_env_include_path: false,
+        ..Genom3Options::default()
+    };
+    let out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options).unwrap();
+    assert!(
+        !out.diagnostics
+            .iter()
+            .any(|d| d.severity == Severity::Error),
+        "{:#?}",
+        out.diagnostics
+    );
+    out.component.unwrap()
+}
+
+const H: &str = "component h {
+  task t { period 10 ms; };
+  activity servo() {
+    task t;
+    codel<start, main> h_main() yield pause::main;
+    codel<stop> h_stop() yield pause::stop, ether;
+  };
+  activity halt() { task t; interrupts servo; codel<start> h_halt() yield ether; };
+};";
+
+fn activity(e: &Engine<'_>, name: &str) -> usize {
+    let sid = e.m.c.service_named(name).unwrap();
+    match e.m.role[&sid] {
+        Role::Activity(a) => a,
+        Role::Control(_) => panic!("{name} is no activity"),
+    }
+}
+
+/// The one enabled action matching `pick`, applied.
+fn step(e: &Engine<'_>, s: &G3State, pick: impl Fn(&G3Action) -> bool) -> G3State {
+    let mut actions = Vec::new();
+    e.actions(s, &mut actions);
+    let a = *actions.iter().find(|a| pick(a)).expect("enabled");
+    e.next_state(s, a).expect("a change")
+}
+
+#[test]
+fn every_waiting_interrupter_starts_when_the_stop_path_ends() {
+    let c = load(H);
+    let e = Engine::new(Machine::new(&c, 3).unwrap());
+    let (servo, halt) = (activity(&e, "servo"), activity(&e, "halt"));
+    let accept = |x: usize| move |a: &G3Action| *a == G3Action::Accept(x as u16);
+    let mut s = e.initial();
+    assert_eq!(s.phase, Phase::Run);
+    s = step(&e, &s, accept(servo));
+    s = step(
+        &e,
+        &s,
+        |a| matches!(a, G3Action::Start(x, _) if usize::from(*x) == servo),
+    );
+    s = step(&e, &s, accept(halt));
+    s = step(&e, &s, accept(halt));
+    assert_eq!(s.inst[servo][0].status, Status::Stop);
+    assert!(s.inst[halt].iter().all(|i| i.status == Status::Delayed));
+    // `stop` yields `ether` (outcome 1): both `halt`s are released.
+    s = step(
+        &e,
+        &s,
+        |a| matches!(a, G3Action::Codel(x, _, 1) if usize::from(*x) == servo),
+    );
+    assert!(s.inst[servo].is_empty());
+    assert_eq!(s.inst[halt].len(), 2);
+    assert!(s.inst[halt].iter().all(|i| i.status == Status::Ready));
+    assert!(s.is_done(e.m.activities[servo].service.index()));
+}
+
+#[test]
+fn kill_drains_then_runs_the_permanent_stop_paths_last_task_first() {
+    let c = load(
+        "component k {
+          task a { codel<start> k_a() yield pause::start; codel<stop> k_as() yield ether; };
+          task b { codel<start> k_b() yield pause::start; codel<stop> k_bs() yield ether; };
+        };",
+    );
+    let e = Engine::new(Machine::new(&c, 1).unwrap());
+    let mut s = e.initial();
+    assert_eq!(s.phase, Phase::Boot);
+    // Task `b` waits for `a`'s first codel.
+    let mut actions = Vec::new();
+    e.actions(&s, &mut actions);
+    assert!(actions.iter().all(|a| matches!(a, G3Action::Perm(0, _))));
+    s = step(&e, &s, |a| *a == G3Action::Perm(0, 0));
+    s = step(&e, &s, |a| *a == G3Action::Perm(1, 0));
+    assert_eq!(s.phase, Phase::Run);
+    let kill =
+        e.m.controls
+            .iter()
+            .position(|k| e.m.service_name(k.service) == "kill");
+    s = step(&e, &s, |a| *a == G3Action::Call(kill.unwrap() as u16));
+    assert_eq!(s.phase, Phase::PermStop(1));
+    s = step(&e, &s, |a| *a == G3Action::Perm(1, 0));
+    assert_eq!(s.phase, Phase::PermStop(0));
+    s = step(&e, &s, |a| *a == G3Action::Perm(0, 0));
+    assert_eq!(s.phase, Phase::Stopped);
+    actions.clear();
+    e.actions(&s, &mut actions);
+    assert!(actions.is_empty());
+}
