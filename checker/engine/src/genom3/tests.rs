@@ -1,10 +1,6 @@
 //! Tests of the GenoM3 engine's rules on small components: interrupters
 //! waiting for stop paths, the `kill` shutdown, the boot order.
 
-use std::path::Path;
-
-use genom_genom3::Genom3Options;
-use genom_model::Severity;
 use genom_model::component::{Component, Idx};
 
 use super::machine::{Machine, Role};
@@ -13,19 +9,7 @@ use super::steps::{Engine, G3Action};
 use crate::engine::explore::Model;
 
 fn load(text: &str) -> Component {
-    let options = Genom3Options {
-        use_env_include_path: false,
-        ..Genom3Options::default()
-    };
-    let out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options).unwrap();
-    assert!(
-        !out.diagnostics
-            .iter()
-            .any(|d| d.severity == Severity::Error),
-        "{:#?}",
-        out.diagnostics
-    );
-    out.component.unwrap()
+    crate::testing::load_genom3(text)
 }
 
 const H: &str = "component h {

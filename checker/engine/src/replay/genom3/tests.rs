@@ -2,9 +2,6 @@
 
 use std::path::Path;
 
-use genom_genom3::Genom3Options;
-use genom_model::Severity;
-
 use super::*;
 use crate::engine::explore::{Limits, Model};
 use crate::genom3::{Machine, analyse_genom3, steps::Engine, trace::render};
@@ -54,18 +51,7 @@ const K: &str = "component k {
 };";
 
 fn load(text: &str) -> Component {
-    let options = Genom3Options {
-        use_env_include_path: false,
-        ..Genom3Options::default()
-    };
-    let out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options).unwrap();
-    let errors: Vec<_> = out
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    out.component.unwrap()
+    crate::testing::load_genom3(text)
 }
 
 /// A trace after `component-start`, steps separated by `;`: `accept S
