@@ -169,6 +169,7 @@ fn point_8_a_cycle_through_an_async_codel_is_no_livelock() {
 fn point_10_an_activity_ending_only_by_exception_never_completes() {
     let r = check("f10_exceptions.gen");
     assert_eq!(findings(&r), [(Code::DeadService, "next".to_owned())]);
+    assert_traces_replay(&r);
     let naive = analyse_with(component(&r), Limits::default(), true);
     assert!(naive.dead.is_empty());
 }

@@ -12,6 +12,8 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::{Diagnostic, Statistics, Trace};
 
 use crate::checks::{dead_service, incomplete, livelock, unreachable_codel};
+use crate::genom3::steps::Engine;
+use crate::genom3::trace::refusal;
 use crate::genom3::{G3Analysis, Machine, Owner, analyse_genom3, machine::Fsm};
 use crate::verify::CheckOptions;
 
@@ -55,18 +57,19 @@ fn dead_services(c: &Component, m: &Machine<'_>, a: &G3Analysis) -> Vec<Diagnost
         if a.started.contains(&sid) || m.is_builtin(sid) {
             continue;
         }
-        let reason = dead_reason(m, a, sid);
-        out.push(dead_service::dead_service(
-            c,
-            sid,
-            &reason,
-            Trace::default(),
-        ));
+        let (reason, why) = dead_reason(m, a, sid);
+        let trace = match why {
+            Some(why) => refusal(&Engine::new(m.clone()), &a.boot, sid, &why),
+            None => Trace::default(),
+        };
+        out.push(dead_service::dead_service(c, sid, &reason, trace));
     }
     out
 }
 
-fn dead_reason(m: &Machine<'_>, a: &G3Analysis, sid: ServiceId) -> String {
+/// Why `sid` is dead, and, when `after` refuses it, the refusal the trace
+/// shows.
+fn dead_reason(m: &Machine<'_>, a: &G3Analysis, sid: ServiceId) -> (String, Option<String>) {
     let names = |v: Vec<ServiceId>| -> String {
         v.iter()
             .map(|s| format!("`{}`", m.service_name(*s)))
@@ -82,12 +85,18 @@ fn dead_reason(m: &Machine<'_>, a: &G3Analysis, sid: ServiceId) -> String {
         .filter(|x| !a.completed.contains(x))
         .collect();
     if !never.is_empty() {
-        return format!(
-            "it is declared `after` {}, which no execution completes successfully: every request is refused with `genom::disallowed`",
-            names(never)
+        let list = names(never);
+        return (
+            format!(
+                "it is declared `after` {list}, which no execution completes successfully: every request is refused with `genom::disallowed`"
+            ),
+            Some(format!("it is `after` {list}, which has not completed")),
         );
     }
-    "every accepted request waits forever for the instances it interrupts to end (a stop path that never reaches `ether`)".to_owned()
+    (
+        "no execution lets a request for it be accepted and started".to_owned(),
+        None,
+    )
 }
 
 /// Codels that the state machine leads to (from `start`, or from `stop`

@@ -63,6 +63,9 @@ pub struct G3Analysis {
     pub reached: BTreeSet<(Owner, u8)>,
     /// Reachable unpaused cycles.
     pub livelocks: Vec<Livelock>,
+    /// The boot: the steps of the permanent activities that lead to the
+    /// first state where requests are handled.
+    pub boot: Vec<G3Action>,
 }
 
 /// Explores `c` (a GenoM3 component; `None` otherwise) with at most
@@ -127,6 +130,7 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
         }
     }
     out.bytes_per_state = bytes;
+    out.boot = boot;
     out.completed = c
         .services
         .ids()

@@ -8,6 +8,7 @@
 //!
 //! | event | service | codel | outcome |
 //! |---|---|---|---|
+//! | `reject` (thread `control`) | the service | | `genom::disallowed` |
 //! | `accept` (thread `control`) | the activity, function or attribute | | `pending` when it waits for instances it interrupted |
 //! | `interrupt` (thread `control`) | the instance's activity | its state, or none if not started | `abort_activity` |
 //! | `start` | the activity | the start state | |
@@ -34,6 +35,27 @@ pub fn render(engine: &Engine<'_>, path: &[G3Action]) -> Trace {
         steps,
         loop_start: None,
     }
+}
+
+/// The trace of a request for `service` refused with `genom::disallowed`
+/// once the component runs (after the `boot` steps); `why` says which
+/// `after`/`before` refuses it.
+pub fn refusal(
+    engine: &Engine<'_>,
+    boot: &[G3Action],
+    service: genom_model::component::ServiceId,
+    why: &str,
+) -> Trace {
+    let mut trace = render(engine, boot);
+    let name = engine.m.service_name(service);
+    let mut s = control_step(Event::Reject, name);
+    s.outcome = Some("genom::disallowed".to_owned());
+    s.span = Some(engine.m.c.services[service].name.span);
+    s.text = format!(
+        "the control thread refuses a request for `{name}` with `genom::disallowed`: {why}"
+    );
+    trace.steps.push(s);
+    trace
 }
 
 /// A `codel-end` step: `owner` runs the codel of `state` and yields `to`.

@@ -15,6 +15,8 @@
 //! - `component-start` first, `violation` (if any) last;
 //! - boot: tasks run their first permanent codel in declaration order,
 //!   requests only once all booted, an exception there fails the start;
+//! - `reject` (thread `control`, outcome `genom::disallowed`): a request
+//!   that `after`/`before` refuse; nothing changes;
 //! - `accept` (thread `control`): `after`/`before`, the task's slot pool,
 //!   `interrupts` flagging (not started: ends; running: to `stop` or ends;
 //!   stopping: untouched), the `pending` outcome exactly when the new
@@ -401,6 +403,27 @@ impl World {
         self.admissible(r, s)
     }
 
+    /// `reject` with `genom::disallowed`: a request that `after`/`before`
+    /// refuse (the state does not change).
+    fn reject(&self, r: &Rules, step: &TraceStep) -> Result<Vec<World>, String> {
+        let s = r.service(step.service.as_deref())?;
+        if step.outcome.as_deref() != Some("genom::disallowed") {
+            return Err("a refused request replies `genom::disallowed`".into());
+        }
+        if step.thread.as_deref() != Some("control") || self.phase != Phase::Run {
+            return Err(
+                "requests are handled by the `control` thread once the component runs".into(),
+            );
+        }
+        match self.admissible(r, s) {
+            Ok(()) => Err(format!(
+                "`{}` is not refused: `after`/`before` allow it",
+                r.services[s].name
+            )),
+            Err(_) => Ok(vec![self.clone()]),
+        }
+    }
+
     /// `accept`: a new instance of an activity, or a function, attribute
     /// or `kill` that runs and succeeds.
     fn accept(&self, r: &Rules, step: &TraceStep) -> Result<Vec<World>, String> {
@@ -603,6 +626,7 @@ impl World {
     fn step(&self, r: &Rules, step: &TraceStep) -> Result<Vec<World>, String> {
         match step.event {
             Event::Accept => self.accept(r, step),
+            Event::Reject => self.reject(r, step),
             Event::Interrupt => self.abort(r, step),
             Event::Start => self.start(r, step),
             Event::CodelEnd => self.codel(r, step),

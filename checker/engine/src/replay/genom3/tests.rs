@@ -68,6 +68,7 @@ fn trace(text: &str) -> Trace {
                 continue;
             }
             "accept" => (Event::Accept, "control", &w[1..]),
+            "reject" => (Event::Reject, "control", &w[1..]),
             "abort" => (Event::Interrupt, "control", &w[1..]),
             "start" => (Event::Start, w[1], &w[2..]),
             "violation" => (Event::Violation, w[1], &w[2..]),
@@ -79,6 +80,7 @@ fn trace(text: &str) -> Trace {
         s.service = word(0).filter(|x| x != "-");
         match event {
             Event::Accept => s.outcome = word(1),
+            Event::Reject => s.outcome = Some("genom::disallowed".into()),
             Event::Interrupt => (s.codel, s.outcome) = (word(1), Some("abort_activity".into())),
             Event::Start => s.codel = Some("start".into()),
             Event::CodelEnd => {
@@ -201,6 +203,9 @@ fn after_before_and_boot_are_checked() {
          m - main>pause::main; t go a>ether; accept late => 10 `late` is `before go`",
             "m - start>exception; accept setup => 3 the component failed to start",
             "m - start>main; m - main>exception; accept setup",
+            "m - start>main; reject go; accept setup; reject setup => 5 is not refused",
+            "m - start>main; accept setup; reject go => 4 `go` is not refused",
+            "reject go => 2 once the component runs",
         ],
     );
 }
