@@ -190,6 +190,40 @@ fn the_tasks_start_in_order_before_any_request() {
     assert_eq!(t.steps[1].outcome.as_deref(), Some("main"));
 }
 
+/// Each fixture's source and its rendered report (colour off, width 100),
+/// traces included.
+#[test]
+fn each_fixture_report_is_snapshotted() {
+    insta::glob!("fixtures/genom3/semantics/*.gen", |path| {
+        // Relative, so that the snapshot does not name the checkout.
+        let shown = format!("{DIR}/{}", path.file_name().unwrap().to_string_lossy());
+        let result =
+            check_path(Path::new(&shown), &Inputs::default(), &CheckOptions::new()).unwrap();
+        let report = genom_model::render::FileReport {
+            path: &shown,
+            sources: &result.sources,
+            diagnostics: &result.diagnostics,
+            statistics: None,
+            dialect: genom_model::Dialect::Genom3,
+            pragmas: &[],
+        };
+        let options = genom_model::render::human::HumanOptions {
+            color: false,
+            width: 100,
+        };
+        let mut text = std::fs::read_to_string(path).unwrap();
+        text.push_str("\n----- report -----\n");
+        text.push_str(&genom_model::render::human::render_diagnostics(
+            &report, options,
+        ));
+        text.push_str(&genom_model::render::human::render_summary(
+            &shown,
+            report.counts(),
+        ));
+        insta::assert_snapshot!(text);
+    });
+}
+
 #[test]
 fn verdicts_do_not_change_with_more_instances() {
     for entry in std::fs::read_dir(DIR).unwrap() {
