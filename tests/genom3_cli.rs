@@ -123,6 +123,23 @@ fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
 }
 
 #[test]
+fn max_instances_explores_more_instances_with_the_same_verdicts() {
+    const F6: &str = "tests/fixtures/genom3/semantics/f6_interrupt_stop.gen";
+    let (status, one) = json(&[F6]);
+    let (status2, three) = json(&["--max-instances", "3", F6]);
+    assert_eq!((status, status2), (0, 0));
+    let states = |f: &Value| f["statistics"]["states"].as_u64().unwrap();
+    assert!(states(&three) > states(&one), "{one:#} {three:#}");
+    assert_eq!(one["diagnostics"], three["diagnostics"]);
+    let out = genom_check()
+        .args(["--max-instances", "32", F6])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("from 1 to 31"));
+}
+
+#[test]
 fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
     // Verified (untimed) and clean, but the UPPAAL model would have
     // LANGUAGE.md's semantics: refused, allowed only marked unverified.

@@ -16,7 +16,8 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .timeout(args.timeout)
         .max_memory(args.max_memory)
         .behaviour(!args.static_only)
-        .reduction(!args.no_reduction);
+        .reduction(!args.no_reduction)
+        .max_instances(args.max_instances);
     let mut unread: Vec<json::JsonUnread> = Vec::new();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     let inputs = args.input.inputs();
