@@ -24,10 +24,12 @@ use super::steps::{Engine, G3Action};
 /// The trace of `path` from the initial state.
 pub fn render(engine: &Engine<'_>, path: &[G3Action]) -> Trace {
     let states = engine.states_along(path);
-    let mut steps = vec![TraceStep::new(
-        Event::ComponentStart,
-        "the component starts: each task runs its permanent activity's `start` codel once before any request is handled",
-    )];
+    let text = if engine.m.tasks.iter().any(|t| t.perm.is_some()) {
+        "the component starts: task by task, each permanent activity runs its first codel before any request is handled"
+    } else {
+        "the component starts (no task has permanent codels): requests are handled at once"
+    };
+    let mut steps = vec![TraceStep::new(Event::ComponentStart, text)];
     for (k, &a) in path.iter().enumerate() {
         steps.push(step(engine, &states[k], &states[k + 1], a));
     }
