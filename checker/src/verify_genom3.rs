@@ -14,7 +14,7 @@ use genom_model::{Diagnostic, Statistics, Trace};
 use crate::checks::{dead_service, incomplete, livelock, unreachable_codel};
 use crate::genom3::steps::Engine;
 use crate::genom3::trace::refusal;
-use crate::genom3::{G3Analysis, Machine, Owner, analyse_genom3, machine::Fsm};
+use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine, machine::Fsm};
 use crate::verify::CheckOptions;
 
 /// Explores a GenoM3 component; its diagnostics and figures (`None` for a
@@ -24,15 +24,14 @@ pub fn verify_genom3(
     options: &CheckOptions,
     started: Instant,
 ) -> Option<(Vec<Diagnostic>, Statistics)> {
-    let n = options.instance_bound();
-    let analysis = analyse_genom3(c, n, options.limits(started))?;
-    let m = Machine::new(c, n)?;
+    let m = Machine::new(c, options.instance_bound())?;
+    let analysis = analyse_machine(&m, options.limits(started));
     let mut out = Vec::new();
     if analysis.stopped.is_none() {
         out.extend(dead_services(c, &m, &analysis));
         out.extend(unreached_codels(&m, &analysis));
     }
-    out.extend(livelock::check(c, &analysis, n));
+    out.extend(livelock::check(&m, &analysis));
     if let Some(stop) = analysis.stopped {
         out.push(incomplete::incomplete(
             c,
@@ -53,13 +52,14 @@ pub fn verify_genom3(
 /// Services no execution accepts (an activity: starts), with the reason.
 fn dead_services(c: &Component, m: &Machine<'_>, a: &G3Analysis) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    let engine = Engine::new(m.clone());
     for (sid, _) in c.services.iter() {
         if a.started.contains(&sid) || m.is_builtin(sid) {
             continue;
         }
         let (reason, why) = dead_reason(m, a, sid);
         let trace = match why {
-            Some(why) => refusal(&Engine::new(m.clone()), &a.boot, sid, &why),
+            Some(why) => refusal(&engine, &a.boot, sid, &why),
             None => Trace::default(),
         };
         out.push(dead_service::dead_service(c, sid, &reason, trace));

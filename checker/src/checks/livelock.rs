@@ -10,7 +10,6 @@
 //! the model does not see.
 
 use crate::genom3::{G3Analysis, Livelock, Machine, Owner};
-use genom_model::component::Component;
 use genom_model::{Code, Diagnostic};
 
 /// `genom-check explain livelock`.
@@ -86,14 +85,11 @@ fn round_names(m: &Machine<'_>, l: &Livelock) -> String {
     crate::genom3::analysis::names(m.fsm(l.cycle.owner), &l.cycle.states)
 }
 
-/// One diagnostic per reachable unpaused cycle.
-pub fn check(c: &Component, analysis: &G3Analysis, max_instances: usize) -> Vec<Diagnostic> {
-    let Some(m) = Machine::new(c, max_instances) else {
-        return Vec::new();
-    };
+/// One diagnostic per reachable unpaused cycle of `m`'s component.
+pub fn check(m: &Machine<'_>, analysis: &G3Analysis) -> Vec<Diagnostic> {
     analysis
         .livelocks
         .iter()
-        .map(|l| diagnostic(&m, l))
+        .map(|l| diagnostic(m, l))
         .collect()
 }

@@ -50,10 +50,6 @@ pub struct G3Analysis {
     pub bytes_per_state: f64,
     /// Why exploration stopped early, if it did.
     pub stopped: Option<Stop>,
-    /// The most instances of one activity explored at once.
-    pub max_instances: usize,
-    /// Whether some request was left unexplored because of that bound.
-    pub bound_hit: bool,
     /// Services some execution accepts (an activity: starts).
     pub started: BTreeSet<ServiceId>,
     /// Services some execution completes successfully (`after` counts
@@ -72,12 +68,15 @@ pub struct G3Analysis {
 /// `max_instances` instances of each activity, part by part
 /// ([`super::parts`]).
 pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Option<G3Analysis> {
-    let whole = Engine::new(Machine::new(c, max_instances)?);
+    Some(analyse_machine(&Machine::new(c, max_instances)?, limits))
+}
+
+/// [`analyse_genom3`] of a machine already read.
+pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
+    let c = m.c;
+    let whole = Engine::new(m.clone());
     let cycles = unpaused_cycles(&whole.m);
-    let mut out = G3Analysis {
-        max_instances: whole.m.max_instances,
-        ..G3Analysis::default()
-    };
+    let mut out = G3Analysis::default();
     let mut done = vec![0u64; c.services.len().div_ceil(64).max(1)];
     let mut boot: Vec<G3Action> = Vec::new();
     let mut bytes = 0.0f64;
@@ -124,7 +123,6 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
         out.transitions += exploration.transitions;
         bytes = bytes.max(exploration.store.bytes_per_state());
         out.stopped = out.stopped.or(exploration.stopped);
-        out.bound_hit |= engine.bound_hit.get();
         if out.stopped.is_some() {
             break;
         }
@@ -139,7 +137,7 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
     out.started.extend(out.completed.iter().copied());
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
-    Some(out)
+    out
 }
 
 /// Whether `owner` may run its codel in `s`: during the boot, a task's

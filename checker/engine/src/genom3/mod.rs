@@ -26,5 +26,5 @@ pub mod steps;
 mod tests;
 pub mod trace;
 
-pub use analysis::{Cycle, G3Analysis, Livelock, analyse_genom3, unpaused_cycles};
+pub use analysis::{Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, unpaused_cycles};
 pub use machine::{Machine, Owner, POOL};

@@ -6,8 +6,6 @@
 //! at once: the boot order of tasks, pending interrupters re-examined when
 //! an instance ended, and the shutdown sequence.
 
-use std::cell::Cell;
-
 use genom_model::component::Idx;
 
 use super::machine::{ControlKind, Machine, Owner, Target};
@@ -38,9 +36,6 @@ pub struct Engine<'a> {
     /// The component.
     pub m: Machine<'a>,
     done_words: usize,
-    /// Set when a request was not explored because its activity had
-    /// `max_instances` instances already.
-    pub bound_hit: Cell<bool>,
     /// Per activity: requested in this exploration.
     acts: Vec<bool>,
     /// Per control service: requested in this exploration.
@@ -64,7 +59,6 @@ impl<'a> Engine<'a> {
         Engine {
             m,
             done_words,
-            bound_hit: Cell::new(false),
             acts,
             ctls,
             perms,
@@ -232,7 +226,6 @@ impl<'a> Engine<'a> {
                 continue;
             }
             if s.inst[a].len() >= self.m.max_instances {
-                self.bound_hit.set(true);
                 continue;
             }
             out.push(G3Action::Accept(a as u16));
