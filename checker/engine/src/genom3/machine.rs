@@ -6,7 +6,7 @@
 
 use std::collections::BTreeMap;
 
-use genom_model::component::genom3::{FsmCodel, Genom3Info};
+use genom_model::component::genom3::{FsmCodel, Genom3Info, ParamSource};
 use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
 use genom_model::span::Span;
 
@@ -34,6 +34,73 @@ pub struct FsmState {
     pub yields: Vec<Target>,
     /// `async`: may block on an external event, the task does not spin.
     pub is_async: bool,
+    /// Its WCET in nanoseconds (from a WCET side file).
+    pub wcet_ns: Option<u64>,
+    /// The data it accesses (for GenoM3's locks).
+    pub access: Vec<Access>,
+}
+
+/// One data access of a codel, as GenoM3's `param_mutex` compares them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Access {
+    /// Ids member path (`None` for the ids) or port/remote name.
+    pub base: Base,
+    /// The member path below the base, segment by segment.
+    pub path: Vec<String>,
+    /// `out` or `inout`.
+    pub write: bool,
+}
+
+/// What an access reaches.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Base {
+    /// The ids.
+    Ids,
+    /// A port, by name.
+    Port(String),
+    /// A remote service, by name.
+    Remote(String),
+}
+
+impl Access {
+    /// The accesses of an FSM codel (`local` parameters never conflict).
+    fn of(fsm: &FsmCodel) -> Vec<Access> {
+        fsm.params
+            .iter()
+            .filter_map(|p| {
+                let mut segs: Vec<String> = p
+                    .path
+                    .split(['.', '['])
+                    .map(|x| x.trim_end_matches(']').trim().to_owned())
+                    .filter(|x| !x.is_empty() && x != "::ids")
+                    .collect();
+                let base = match p.source {
+                    ParamSource::Ids => Base::Ids,
+                    ParamSource::Port if !segs.is_empty() => Base::Port(segs.remove(0)),
+                    ParamSource::Remote if !segs.is_empty() => Base::Remote(segs.remove(0)),
+                    _ => return None,
+                };
+                Some(Access {
+                    base,
+                    path: segs,
+                    write: p.dir != "in",
+                })
+            })
+            .collect()
+    }
+
+    /// GenoM3's `param_mutex`: same port or remote, whatever the
+    /// directions; ids paths equal on their common prefix, one writing.
+    pub fn conflicts(&self, other: &Access) -> bool {
+        match (&self.base, &other.base) {
+            (Base::Port(a), Base::Port(b)) | (Base::Remote(a), Base::Remote(b)) => a == b,
+            (Base::Ids, Base::Ids) => {
+                (self.write || other.write)
+                    && self.path.iter().zip(&other.path).all(|(a, b)| a == b)
+            }
+            _ => false,
+        }
+    }
 }
 
 /// A codel state machine (an activity's or a task's permanent one).
@@ -50,7 +117,11 @@ pub struct Fsm {
 impl Fsm {
     /// Reads the FSM codels of one owner; `codel_of` names the model codel
     /// of a state, if any.
-    fn build(codels: &[&FsmCodel], codel_of: impl Fn(&str) -> Option<CodelId>) -> Fsm {
+    fn build(
+        codels: &[&FsmCodel],
+        codel_of: impl Fn(&str) -> Option<CodelId>,
+        wcet_of: impl Fn(Option<CodelId>) -> Option<u64>,
+    ) -> Fsm {
         let mut index: BTreeMap<&str, u8> = BTreeMap::new();
         let mut states = Vec::new();
         for fsm in codels {
@@ -59,13 +130,16 @@ impl Fsm {
                     continue;
                 }
                 index.insert(&s.name, states.len() as u8);
+                let codel = codel_of(&s.name);
                 states.push(FsmState {
                     name: s.name.clone(),
                     function: fsm.function.name.clone(),
-                    codel: codel_of(&s.name),
+                    codel,
                     span: fsm.span,
                     yields: Vec::new(),
                     is_async: fsm.is_async,
+                    wcet_ns: wcet_of(codel).or(fsm.wcet.map(|w| w.ns)),
+                    access: Access::of(fsm),
                 });
             }
         }
@@ -155,6 +229,10 @@ pub struct TaskM {
     pub name: String,
     /// Its permanent codels (`None` without any).
     pub perm: Option<Fsm>,
+    /// Its period in nanoseconds (`None`: aperiodic).
+    pub period_ns: Option<u64>,
+    /// Its phase: the first wake-up, in nanoseconds.
+    pub delay_ns: u64,
 }
 
 /// The GenoM3 component as the engine reads it.
@@ -345,7 +423,14 @@ fn tasks(c: &Component, g: &Genom3Info) -> Vec<TaskM> {
             TaskM {
                 thread: tid,
                 name: t.name.name.clone(),
-                perm: (!codels.is_empty()).then(|| Fsm::build(&codels, |_| None)),
+                perm: (!codels.is_empty()).then(|| Fsm::build(&codels, |_| None, |_| None)),
+                period_ns: t.period.map(|p| p.ns),
+                delay_ns: g
+                    .tasks
+                    .iter()
+                    .find(|k| k.thread == tid)
+                    .and_then(|k| k.delay)
+                    .map_or(0, |d| d.ns),
             }
         })
         .collect()
@@ -364,10 +449,14 @@ fn service_fsm(c: &Component, g: &Genom3Info, sid: ServiceId) -> Fsm {
             seen.push(&i.fsm);
         }
     }
-    Fsm::build(&seen, |state| {
-        infos
-            .iter()
-            .find(|i| c.codels[i.codel].name.name == state)
-            .map(|i| i.codel)
-    })
+    Fsm::build(
+        &seen,
+        |state| {
+            infos
+                .iter()
+                .find(|i| c.codels[i.codel].name.name == state)
+                .map(|i| i.codel)
+        },
+        |k| k.and_then(|k| c.codels[k].wcet).map(|w| w.ns),
+    )
 }

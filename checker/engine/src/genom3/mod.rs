@@ -15,7 +15,9 @@
 //! - [`parts`]: the independent parts explored one by one;
 //! - [`steps`]: the transitions (an [`crate::engine::explore::Model`]);
 //! - [`analysis`]: exploration and the verdicts read off it;
-//! - [`trace`]: traces, in the vocabulary the replay reads.
+//! - [`trace`]: traces, in the vocabulary the replay reads;
+//! - [`timed`]: the same rules with GenoM3's task loop in time (ticks,
+//!   sweeps, WCETs, locks): schedulability.
 
 pub mod analysis;
 pub mod machine;
@@ -24,6 +26,7 @@ pub mod state;
 pub mod steps;
 #[cfg(test)]
 mod tests;
+pub mod timed;
 pub mod trace;
 
 pub use analysis::{Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, unpaused_cycles};

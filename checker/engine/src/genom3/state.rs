@@ -59,16 +59,46 @@ pub enum Status {
     Stop,
 }
 
-/// One instance: its status and the state whose codel runs next.
+/// Timing marks of an instance (always 0 in the untimed engine).
+pub mod mark {
+    /// It runs a codel in its task's current sweep and has not yet.
+    pub const DUE: u8 = 1;
+    /// Its last transition was `pause::`: it waits for a wake-up.
+    pub const PAUSED: u8 = 2;
+    /// Its codel is running now.
+    pub const BUSY: u8 = 4;
+    /// Interrupted while its codel runs or is due in this sweep: it goes
+    /// to `stop` (or ends) after that codel.
+    pub const FLAGGED: u8 = 8;
+}
+
+/// One instance: its status, the state whose codel runs next, and its
+/// timing [`mark`]s.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Inst {
     /// Its status.
     pub status: Status,
     /// Its state (meaningless before it starts).
     pub state: u8,
+    /// Timing marks (bits of [`mark`]).
+    pub mark: u8,
 }
 
 impl Inst {
+    /// An instance without marks.
+    pub fn new(status: Status, state: u8) -> Inst {
+        Inst {
+            status,
+            state,
+            mark: 0,
+        }
+    }
+
+    /// Whether mark `m` is set.
+    pub fn has(self, m: u8) -> bool {
+        self.mark & m != 0
+    }
+
     /// The packed form; 0 is an empty slot.
     pub fn pack(self) -> u16 {
         let s = match self.status {
@@ -77,7 +107,7 @@ impl Inst {
             Status::Run => 3,
             Status::Stop => 4,
         };
-        s | (u16::from(self.state) << 3)
+        s | (u16::from(self.state) << 3) | (u16::from(self.mark & 0x1f) << 11)
     }
 
     /// The instance of a packed slot (`None` when empty).
@@ -91,7 +121,8 @@ impl Inst {
         };
         Some(Inst {
             status,
-            state: u8::try_from(v >> 3).unwrap_or(u8::MAX),
+            state: ((v >> 3) & 0xff) as u8,
+            mark: (v >> 11) as u8,
         })
     }
 
@@ -212,24 +243,13 @@ mod tests {
                 Some(Inst {
                     status: Status::Run,
                     state: 7,
+                    mark: mark::BUSY | mark::FLAGGED,
                 }),
             ],
             inst: vec![
-                vec![
-                    Inst {
-                        status: Status::Delayed,
-                        state: 0,
-                    },
-                    Inst {
-                        status: Status::Stop,
-                        state: 200,
-                    },
-                ],
+                vec![Inst::new(Status::Delayed, 0), Inst::new(Status::Stop, 200)],
                 vec![],
-                vec![Inst {
-                    status: Status::Ready,
-                    state: 1,
-                }],
+                vec![Inst::new(Status::Ready, 1)],
             ],
         };
         let mut w = Vec::new();

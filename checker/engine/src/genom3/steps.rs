@@ -9,7 +9,7 @@
 use genom_model::component::Idx;
 
 use super::machine::{ControlKind, Machine, Owner, Target};
-use super::state::{G3State, Inst, Phase, Status};
+use super::state::{G3State, Inst, Phase, Status, mark};
 use crate::engine::explore::Model;
 
 /// A transition.
@@ -80,10 +80,7 @@ impl<'a> Engine<'a> {
                         return None;
                     }
                     let start = t.perm.as_ref()?.start?;
-                    Some(Inst {
-                        status: Status::Run,
-                        state: start,
-                    })
+                    Some(Inst::new(Status::Run, start))
                 })
                 .collect(),
             inst: vec![Vec::new(); self.m.activities.len()],
@@ -101,29 +98,20 @@ impl<'a> Engine<'a> {
 
     /// Interrupts activity `a`'s instances (`spare`: not the not yet
     /// started ones, for a pending interrupter re-examining its own
-    /// activity). Not started: they end; running: to `stop`, or end
-    /// without one; stopping: untouched. Returns whether one is stopping.
+    /// activity); see [`interrupted`]. Returns whether one is stopping.
     fn flag(&self, s: &mut G3State, a: usize, spare: bool) -> bool {
         let stop = self.m.activities[a].fsm.stop;
         let old = std::mem::take(&mut s.inst[a]);
         let mut kept = Vec::with_capacity(old.len());
         for i in old {
-            match i.status {
-                Status::Delayed | Status::Ready if spare => kept.push(i),
-                Status::Delayed | Status::Ready => {}
-                Status::Run => {
-                    if let Some(state) = stop {
-                        kept.push(Inst {
-                            status: Status::Stop,
-                            state,
-                        });
-                    }
-                }
-                Status::Stop => kept.push(i),
+            if spare && i.status <= Status::Ready {
+                kept.push(i);
+            } else {
+                kept.extend(interrupted(i, stop));
             }
         }
         kept.sort_unstable();
-        let stopping = kept.iter().any(|i| i.status == Status::Stop);
+        let stopping = kept.iter().any(|&i| stopping(i));
         s.inst[a] = kept;
         stopping
     }
@@ -132,7 +120,7 @@ impl<'a> Engine<'a> {
     /// `pending`, for one re-examined while it waits: then its own activity's
     /// instances not started yet are spared); whether it must wait for one
     /// of them to end.
-    fn interrupt_for(&self, s: &mut G3State, a: usize, pending: bool) -> bool {
+    pub(crate) fn interrupt_for(&self, s: &mut G3State, a: usize, pending: bool) -> bool {
         let mut delay = false;
         for &t in &self.m.activities[a].interrupts {
             delay |= self.flag(s, t, pending && t == a);
@@ -141,7 +129,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Ends one instance of `a` (packed `v`), successfully or not.
-    fn end(&self, s: &mut G3State, a: usize, v: u16, success: bool) {
+    pub(crate) fn end(&self, s: &mut G3State, a: usize, v: u16, success: bool) {
         remove(&mut s.inst[a], v);
         if success {
             s.set_done(self.m.activities[a].service.index());
@@ -205,10 +193,7 @@ impl<'a> Engine<'a> {
     fn next_perm_stop(&self, s: &mut G3State, below: usize) {
         for t in (0..below).rev().filter(|_| self.perms) {
             if let Some(stop) = self.m.tasks[t].perm.as_ref().and_then(|f| f.stop) {
-                s.perm[t] = Some(Inst {
-                    status: Status::Stop,
-                    state: stop,
-                });
+                s.perm[t] = Some(Inst::new(Status::Stop, stop));
                 s.phase = Phase::PermStop(t as u8);
                 return;
             }
@@ -216,7 +201,7 @@ impl<'a> Engine<'a> {
         s.phase = Phase::Stopped;
     }
 
-    fn requests(&self, s: &G3State, out: &mut Vec<G3Action>) {
+    pub(crate) fn requests(&self, s: &G3State, out: &mut Vec<G3Action>) {
         for (a, act) in self.m.activities.iter().enumerate() {
             if !self.acts[a] || !self.admissible(s, act.service) {
                 continue;
@@ -277,7 +262,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Applies an accepted request or a successful call.
-    fn control(&self, s: &mut G3State, action: G3Action) {
+    pub(crate) fn control(&self, s: &mut G3State, action: G3Action) {
         match action {
             G3Action::Accept(a) => {
                 let a = usize::from(a);
@@ -287,7 +272,7 @@ impl<'a> Engine<'a> {
                 } else {
                     Status::Ready
                 };
-                insert(&mut s.inst[a], Inst { status, state: 0 });
+                insert(&mut s.inst[a], Inst::new(status, 0));
             }
             G3Action::Call(k) => {
                 let ctl = &self.m.controls[usize::from(k)];
@@ -316,21 +301,13 @@ impl<'a> Engine<'a> {
         }
         let Some(i) = Inst::unpack(v) else { return };
         remove(&mut s.inst[a], v);
-        if i.status == Status::Run {
-            if let Some(state) = self.m.activities[a].fsm.stop {
-                insert(
-                    &mut s.inst[a],
-                    Inst {
-                        status: Status::Stop,
-                        state,
-                    },
-                );
-            }
+        if let Some(kept) = interrupted(i, self.m.activities[a].fsm.stop) {
+            insert(&mut s.inst[a], kept);
         }
     }
 
     /// Runs the codel of an instance of `a` with outcome `o`.
-    fn codel(&self, s: &mut G3State, a: usize, v: u16, o: u8) {
+    pub(crate) fn codel(&self, s: &mut G3State, a: usize, v: u16, o: u8) {
         let Some(i) = Inst::unpack(v) else { return };
         let fsm = &self.m.activities[a].fsm;
         match fsm.states[usize::from(i.state)].yields.get(usize::from(o)) {
@@ -344,7 +321,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Runs the permanent codel of task `t` with outcome `o`.
-    fn perm(&self, s: &mut G3State, t: usize, o: u8) {
+    pub(crate) fn perm(&self, s: &mut G3State, t: usize, o: u8) {
         let Some(i) = s.perm[t] else { return };
         let fsm = self.m.fsm(Owner::Task(t));
         let booting = s.phase == Phase::Boot && t == usize::from(s.booted);
@@ -398,13 +375,7 @@ impl Model for Engine<'_> {
                 let a = usize::from(a);
                 remove(&mut n.inst[a], v);
                 match self.m.activities[a].fsm.start {
-                    Some(state) => insert(
-                        &mut n.inst[a],
-                        Inst {
-                            status: Status::Run,
-                            state,
-                        },
-                    ),
+                    Some(state) => insert(&mut n.inst[a], Inst::new(Status::Run, state)),
                     None => n.set_done(self.m.activities[a].service.index()),
                 }
             }
@@ -435,8 +406,30 @@ impl Model for Engine<'_> {
     fn zone(&self, _: &G3State) {}
 }
 
+/// What interrupting instance `i` leaves (`stop`: its activity's stop
+/// state): not started, nothing (it ends); running, its stop path, or
+/// nothing without one; stopping, itself. A running instance whose codel
+/// runs or is due in the current sweep (timed engine) is only flagged: it
+/// goes to `stop` after that codel.
+pub(crate) fn interrupted(i: Inst, stop: Option<u8>) -> Option<Inst> {
+    match i.status {
+        Status::Delayed | Status::Ready => None,
+        Status::Run if i.has(mark::BUSY | mark::DUE) => Some(Inst {
+            mark: i.mark | mark::FLAGGED,
+            ..i
+        }),
+        Status::Run => stop.map(|state| Inst::new(Status::Stop, state)),
+        Status::Stop => Some(i),
+    }
+}
+
+/// Whether an instance is on its way to end by an interruption.
+fn stopping(i: Inst) -> bool {
+    i.status == Status::Stop || i.has(mark::FLAGGED)
+}
+
 /// Every distinct (activity, packed instance) of a state.
-fn distinct(s: &G3State) -> Vec<(u16, u16)> {
+pub(crate) fn distinct(s: &G3State) -> Vec<(u16, u16)> {
     let mut out = Vec::new();
     for (a, v) in s.inst.iter().enumerate() {
         let mut last = None;
@@ -452,17 +445,17 @@ fn distinct(s: &G3State) -> Vec<(u16, u16)> {
 }
 
 /// Instances in a state.
-fn total(s: &G3State) -> usize {
+pub(crate) fn total(s: &G3State) -> usize {
     s.inst.iter().map(Vec::len).sum()
 }
 
-fn remove(v: &mut Vec<Inst>, packed: u16) {
+pub(crate) fn remove(v: &mut Vec<Inst>, packed: u16) {
     if let Some(pos) = v.iter().position(|i| i.pack() == packed) {
         v.remove(pos);
     }
 }
 
-fn insert(v: &mut Vec<Inst>, i: Inst) {
+pub(crate) fn insert(v: &mut Vec<Inst>, i: Inst) {
     let pos = v.partition_point(|x| *x < i);
     v.insert(pos, i);
 }

@@ -75,7 +75,12 @@ pub fn codel_step(engine: &Engine<'_>, owner: Owner, state: u8, to: &str) -> Tra
     s
 }
 
-fn step(engine: &Engine<'_>, before: &G3State, after: &G3State, a: G3Action) -> TraceStep {
+pub(crate) fn step(
+    engine: &Engine<'_>,
+    before: &G3State,
+    after: &G3State,
+    a: G3Action,
+) -> TraceStep {
     let m = &engine.m;
     match a {
         G3Action::Accept(x) => {
@@ -159,7 +164,7 @@ fn control_step(event: Event, service: &str) -> TraceStep {
     s
 }
 
-fn codel_text(
+pub(crate) fn codel_text(
     engine: &Engine<'_>,
     owner: Owner,
     state: u8,

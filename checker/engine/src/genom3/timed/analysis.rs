@@ -1,0 +1,99 @@
+//! Explores the timed GenoM3 model of a whole component (locks and the
+//! shared timer couple every task, so it is not split into parts) and
+//! reads the schedulability verdict off it: which tasks can reach a tick
+//! with the work of their previous wake-up unfinished, each with the
+//! concrete timed trace of the first such tick found (breadth-first: a
+//! shortest one).
+
+use std::collections::BTreeMap;
+
+use genom_model::render::human::format_ns;
+use genom_model::trace::{Event, Trace, TraceStep};
+
+use super::trace::timed_trace;
+use super::{TG3State, TimedEngine};
+use crate::engine::explore::{Limits, Stop, explore};
+use crate::engine::store::StateId;
+use crate::genom3::analysis::describe;
+use crate::genom3::machine::Machine;
+use crate::genom3::state::mark;
+
+/// A task that can overrun, with its trace.
+#[derive(Debug, Clone)]
+pub struct TaskOverrun {
+    /// Index of the task in [`Machine::tasks`].
+    pub task: usize,
+    /// The trace, ending at the tick that finds work unfinished.
+    pub trace: Trace,
+}
+
+/// What the timed exploration found.
+#[derive(Debug, Clone, Default)]
+pub struct TimingAnalysis {
+    /// Symbolic states stored.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+    /// Clocks of the model.
+    pub clocks: usize,
+    /// Why the exploration stopped early, if it did.
+    pub stopped: Option<Stop>,
+    /// Tasks that can overrun, in task order.
+    pub overruns: Vec<TaskOverrun>,
+}
+
+/// Explores the timed model of `m`; `None` when it has too many tasks
+/// for one (see [`super::MAX_TASKS`]).
+pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis> {
+    let te = TimedEngine::new(m.clone())?;
+    let mut first: BTreeMap<usize, StateId> = BTreeMap::new();
+    let e = explore(&te, limits, |id, st: &TG3State| {
+        if let Some(t) = st.violation {
+            first.entry(usize::from(t)).or_insert(id);
+        }
+    });
+    let overruns = first
+        .iter()
+        .map(|(&task, &id)| {
+            let path = e.store.path(id);
+            let end = e.store_config(&te, id);
+            let last = TraceStep::new(Event::Violation, unfinished_text(&te, &end, task));
+            TaskOverrun {
+                task,
+                trace: timed_trace(&te, &path, last),
+            }
+        })
+        .collect();
+    Some(TimingAnalysis {
+        states: e.store.len() as u64,
+        transitions: e.transitions,
+        clocks: te.clock_count(),
+        stopped: e.stopped,
+        overruns,
+    })
+}
+
+/// What the tick of task `t` finds unfinished in `st`.
+fn unfinished_text(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> String {
+    let m = te.m();
+    let task = &m.tasks[t];
+    let period = format_ns(task.period_ns.unwrap_or(0));
+    let mut what = Vec::new();
+    for (who, i) in te.instances(&st.g, t) {
+        let owner = who.owner();
+        let state = &m.fsm(owner).states[usize::from(i.state)].name;
+        if i.has(mark::BUSY) {
+            what.push(format!("{} still runs `{state}`", describe(&te.e, owner)));
+        } else if i.has(mark::DUE) {
+            what.push(format!(
+                "{} has not run `{state}` yet (it waits for a lock)",
+                describe(&te.e, owner)
+            ));
+        }
+    }
+    format!(
+        "task `{}` reaches its next tick ({period} after the previous one) with the work of that wake-up unfinished: {}",
+        task.name,
+        what.join("; ")
+    )
+}

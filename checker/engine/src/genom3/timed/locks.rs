@@ -1,0 +1,131 @@
+//! The codels of the timed GenoM3 model: their durations in model units
+//! and GenoM3's exclusion lists (`docs/genom3-semantics.md` 8.1-8.2).
+//!
+//! An FSM codel of task T *excludes* (waits while another task runs) a
+//! codel of another task when their parameters conflict
+//! ([`crate::genom3::machine::Access::conflicts`]: same port or remote
+//! whatever the directions, overlapping ids member paths with a writer),
+//! except a codel of a service that interrupts the first codel's own
+//! service (GenoM3's generator leaves those out; the exception is
+//! one-sided). Codels of one task never exclude each other, and an `async`
+//! codel takes no lock (7.1). Control codels take no time in this model,
+//! so they hold no lock.
+
+use crate::genom3::machine::{Fsm, Machine, Owner};
+
+/// Durations and exclusions of every FSM codel, by a dense key.
+#[derive(Debug, Clone)]
+pub struct Locks {
+    /// First key of each activity's states.
+    act_base: Vec<usize>,
+    /// First key of each task's permanent states.
+    perm_base: Vec<usize>,
+    /// Per key: upper bound of its duration (`None`: unbounded, `async`).
+    upper: Vec<Option<i64>>,
+    /// Per key: lower bound of its duration (an `async` codel's WCET).
+    lower: Vec<i64>,
+    /// Per key: the keys it waits for.
+    excl: Vec<Vec<usize>>,
+    /// Per task: the largest duration constant of its codels.
+    task_bound: Vec<i64>,
+}
+
+impl Locks {
+    /// Reads the machine's codels, durations in units of `unit` ns.
+    pub fn new(m: &Machine<'_>, unit: u64) -> Locks {
+        let mut owners: Vec<(Owner, usize, &Fsm)> = Vec::new();
+        let mut act_base = Vec::new();
+        let mut perm_base = Vec::new();
+        let mut next = 0;
+        for (a, act) in m.activities.iter().enumerate() {
+            act_base.push(next);
+            owners.push((Owner::Activity(a), act.task, &act.fsm));
+            next += act.fsm.states.len();
+        }
+        for t in 0..m.tasks.len() {
+            perm_base.push(next);
+            let fsm = m.fsm(Owner::Task(t));
+            owners.push((Owner::Task(t), t, fsm));
+            next += fsm.states.len();
+        }
+        let units = |ns: u64| i64::try_from(ns / unit.max(1)).unwrap_or(i64::MAX / 4);
+        let mut upper = Vec::with_capacity(next);
+        let mut lower = Vec::with_capacity(next);
+        let mut task_bound = vec![0; m.tasks.len()];
+        let mut codels = Vec::with_capacity(next);
+        for &(owner, task, fsm) in &owners {
+            for st in &fsm.states {
+                let w = st.wcet_ns.map_or(0, units);
+                upper.push((!st.is_async).then_some(w));
+                lower.push(if st.is_async { w } else { 0 });
+                task_bound[task] = task_bound[task].max(w);
+                codels.push((owner, task, st));
+            }
+        }
+        let excl = codels
+            .iter()
+            .map(|&(owner, task, st)| {
+                codels
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &(o2, t2, s2))| {
+                        t2 != task
+                            && !st.is_async
+                            && !s2.is_async
+                            && !interrupts(m, o2, owner)
+                            && st
+                                .access
+                                .iter()
+                                .any(|x| s2.access.iter().any(|y| x.conflicts(y)))
+                    })
+                    .map(|(k, _)| k)
+                    .collect()
+            })
+            .collect();
+        Locks {
+            act_base,
+            perm_base,
+            upper,
+            lower,
+            excl,
+            task_bound,
+        }
+    }
+
+    /// The key of `owner`'s state `state`.
+    pub fn key(&self, owner: Owner, state: u8) -> usize {
+        let base = match owner {
+            Owner::Activity(a) => self.act_base[a],
+            Owner::Task(t) => self.perm_base[t],
+        };
+        base + usize::from(state)
+    }
+
+    /// Upper bound of the codel's duration (`None`: unbounded).
+    pub fn wcet(&self, owner: Owner, state: u8) -> Option<i64> {
+        self.upper[self.key(owner, state)]
+    }
+
+    /// Lower bound of the codel's duration.
+    pub fn lower(&self, owner: Owner, state: u8) -> i64 {
+        self.lower[self.key(owner, state)]
+    }
+
+    /// Whether codel `k` waits while codel `j` runs.
+    pub fn excludes(&self, k: usize, j: usize) -> bool {
+        self.excl[k].binary_search(&j).is_ok()
+    }
+
+    /// The largest duration constant of task `t`'s codels.
+    pub fn task_bound(&self, t: usize) -> i64 {
+        self.task_bound[t]
+    }
+}
+
+/// Whether `by`'s service interrupts `target`'s (both activities).
+fn interrupts(m: &Machine<'_>, by: Owner, target: Owner) -> bool {
+    match (by, target) {
+        (Owner::Activity(b), Owner::Activity(a)) => m.activities[b].interrupts.contains(&a),
+        _ => false,
+    }
+}

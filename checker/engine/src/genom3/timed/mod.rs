@@ -1,0 +1,389 @@
+//! The timed GenoM3 engine: the untimed engine's rules ([`super::steps`])
+//! plus GenoM3's task loop in time (`docs/genom3-semantics.md` sections 1,
+//! 2, 7 and 8, read as section 15 says):
+//!
+//! - a periodic task wakes at every tick (`period`, first at `delay`); at a
+//!   tick it starts the accepted instances, resumes the paused ones, and
+//!   then *sweeps*: every unpaused instance runs one codel per sweep, in
+//!   any order (every slot order is explored), and the task sweeps again
+//!   at once while some instance made a transition without `pause::`; a
+//!   tick that finds the work of the previous one unfinished is a
+//!   `thread-overrun` (terminal violation);
+//! - an aperiodic task is activated at any time while it has something to
+//!   start or resume (requests, other tasks' transitions and interruptions
+//!   wake it in GenoM3, and the environment may send requests at any time),
+//!   and its continuation sweeps start and resume too;
+//! - a codel takes between 0 and its WCET (0 without one); an `async` codel
+//!   takes at least its WCET and has no upper bound; a task begins a codel
+//!   as soon as it may (urgent), waiting only for GenoM3's locks: the codel
+//!   waits while another task runs a codel of its exclusion list
+//!   ([`locks`]);
+//! - the control thread (requests, functions, attributes, `kill`,
+//!   `abort_activity`) acts at any time and takes no time; an interrupted
+//!   instance whose codel runs or is due in the sweep goes to `stop` after
+//!   that codel.
+//!
+//! A symbolic state is the untimed state (instances with their timing
+//! marks), per task the continuation and first-tick bits, and a zone over
+//! the clocks: per periodic task the time since its tick, per task the time
+//! since its running codel began.
+
+pub mod analysis;
+pub mod locks;
+mod steps;
+pub mod trace;
+
+use genom_model::component::Idx;
+
+use super::machine::{Machine, Owner};
+use super::state::{G3State, Inst, Status, mark};
+use super::steps::{Engine, G3Action};
+use crate::engine::explore::Model;
+use crate::timed::clocks::gcd;
+use crate::zones::dbm::Dbm;
+
+/// Whose instance: an activity's or a task's permanent activity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Who {
+    /// Activity index.
+    Act(u16),
+    /// Task index (its permanent activity).
+    Perm(u8),
+}
+
+impl Who {
+    /// The state machine's owner.
+    pub fn owner(self) -> Owner {
+        match self {
+            Who::Act(a) => Owner::Activity(usize::from(a)),
+            Who::Perm(t) => Owner::Task(usize::from(t)),
+        }
+    }
+}
+
+/// A transition of the timed GenoM3 model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TG3Action {
+    /// The control thread accepts a request, runs a function or
+    /// attribute, or `abort_activity` (as the untimed engine).
+    Control(G3Action),
+    /// Periodic task `t` reaches its tick.
+    Tick(u8),
+    /// Aperiodic task `t` is activated.
+    Wake(u8),
+    /// An instance (packed) begins the codel of its state.
+    Begin(Who, u16),
+    /// The running instance (packed) ends its codel with outcome `o`.
+    End(Who, u16, u8),
+}
+
+/// A symbolic state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TG3State {
+    /// The untimed state, instances with their timing marks.
+    pub g: G3State,
+    /// Per task (bit): some instance made a transition without `pause::`
+    /// in the current sweep (the task sweeps again at once).
+    pub cont: u64,
+    /// Per task (bit): its first tick happened.
+    pub ticked: u64,
+    /// The task whose tick found its work unfinished (terminal).
+    pub violation: Option<u8>,
+    /// The clock zone.
+    pub zone: Dbm,
+}
+
+/// The timed GenoM3 model of a machine.
+#[derive(Debug)]
+pub struct TimedEngine<'a> {
+    /// The untimed rules.
+    pub e: Engine<'a>,
+    /// Nanoseconds per model unit.
+    pub unit: u64,
+    /// Per task: period in units.
+    pub period: Vec<Option<i64>>,
+    /// Per task: first tick in units.
+    pub delay: Vec<i64>,
+    /// Per task: its period clock.
+    pub period_clock: Vec<Option<usize>>,
+    /// Per task: its execution clock.
+    pub exec_clock: Vec<usize>,
+    /// Per task: its activities.
+    pub acts_of: Vec<Vec<usize>>,
+    /// The codels' WCETs and exclusion lists.
+    pub locks: locks::Locks,
+    /// Largest constant each clock is compared with (index: clock − 1).
+    bounds: Vec<Option<i64>>,
+    /// Apply extrapolation (off to compute concrete traces).
+    pub extrapolate: bool,
+}
+
+/// Most tasks a timed model handles (one bit each in a word).
+pub const MAX_TASKS: usize = 32;
+
+impl<'a> TimedEngine<'a> {
+    /// The timed model of `m`; `None` with more than [`MAX_TASKS`] tasks.
+    pub fn new(m: Machine<'a>) -> Option<Self> {
+        let n = m.tasks.len();
+        if n > MAX_TASKS {
+            return None;
+        }
+        let unit = unit_ns(&m);
+        let locks = locks::Locks::new(&m, unit);
+        let to_units = |ns: u64| i64::try_from(ns / unit).unwrap_or(i64::MAX / 4);
+        let period: Vec<Option<i64>> = m.tasks.iter().map(|t| t.period_ns.map(to_units)).collect();
+        let delay: Vec<i64> = m.tasks.iter().map(|t| to_units(t.delay_ns)).collect();
+        let mut bounds = Vec::new();
+        let mut period_clock = Vec::new();
+        for t in 0..n {
+            period_clock.push(period[t].map(|p| {
+                bounds.push(Some(p.max(delay[t])));
+                bounds.len()
+            }));
+        }
+        let mut exec_clock = Vec::new();
+        for t in 0..n {
+            bounds.push(Some(locks.task_bound(t)));
+            exec_clock.push(bounds.len());
+        }
+        let acts_of = (0..n)
+            .map(|t| {
+                (0..m.activities.len())
+                    .filter(|&a| m.activities[a].task == t)
+                    .collect()
+            })
+            .collect();
+        Some(TimedEngine {
+            e: Engine::new(m),
+            unit,
+            period,
+            delay,
+            period_clock,
+            exec_clock,
+            acts_of,
+            locks,
+            bounds,
+            extrapolate: true,
+        })
+    }
+
+    /// Number of clocks.
+    pub fn clock_count(&self) -> usize {
+        self.bounds.len()
+    }
+
+    /// The machine.
+    pub fn m(&self) -> &Machine<'a> {
+        &self.e.m
+    }
+
+    /// The initial state with `extra` more clocks (for traces).
+    pub fn start(&self, extra: usize) -> TG3State {
+        let st = TG3State {
+            g: self.e.initial(),
+            cont: 0,
+            ticked: 0,
+            violation: None,
+            zone: Dbm::zero(self.clock_count() + extra),
+        };
+        self.finish(st)
+    }
+
+    /// Whether task `t` runs at all yet (spawned in the boot order).
+    pub fn spawned(&self, g: &G3State, t: usize) -> bool {
+        g.phase != super::state::Phase::Boot || t <= usize::from(g.booted)
+    }
+
+    /// The instances of task `t` (its permanent one first), with who owns
+    /// each.
+    pub fn instances(&self, g: &G3State, t: usize) -> Vec<(Who, Inst)> {
+        let mut out = Vec::new();
+        if let Some(i) = g.perm[t] {
+            out.push((Who::Perm(t as u8), i));
+        }
+        for &a in &self.acts_of[t] {
+            let mut last = None;
+            for &i in &g.inst[a] {
+                if last != Some(i) {
+                    out.push((Who::Act(a as u16), i));
+                    last = Some(i);
+                }
+            }
+        }
+        out
+    }
+
+    /// The instance of task `t` running a codel, if any.
+    pub fn running(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
+        self.instances(g, t)
+            .into_iter()
+            .find(|(_, i)| i.has(mark::BUSY))
+    }
+
+    /// Task `t` has work left in its current wake-up.
+    pub fn unfinished(&self, st: &TG3State, t: usize) -> bool {
+        st.cont >> t & 1 == 1
+            || self
+                .instances(&st.g, t)
+                .iter()
+                .any(|(_, i)| i.has(mark::BUSY | mark::DUE))
+    }
+
+    /// Whether task `t` (idle) may begin the codel of `i` now: its locks
+    /// are free.
+    pub fn may_begin(&self, g: &G3State, t: usize, who: Who, i: Inst) -> bool {
+        let k = self.locks.key(who.owner(), i.state);
+        (0..self.e.m.tasks.len()).filter(|&u| u != t).all(|u| {
+            self.running(g, u)
+                .is_none_or(|(w, j)| !self.locks.excludes(k, self.locks.key(w.owner(), j.state)))
+        })
+    }
+
+    /// The codels some task may begin now (time may not pass then).
+    pub fn begins(&self, g: &G3State, out: &mut Vec<TG3Action>) {
+        for t in 0..self.e.m.tasks.len() {
+            if !self.spawned(g, t) || self.running(g, t).is_some() {
+                continue;
+            }
+            for (who, i) in self.instances(g, t) {
+                if i.has(mark::DUE) && self.may_begin(g, t, who, i) {
+                    out.push(TG3Action::Begin(who, i.pack()));
+                }
+            }
+        }
+    }
+
+    /// Whether time may not pass: some codel may begin.
+    pub fn urgent(&self, st: &TG3State) -> bool {
+        let mut v = Vec::new();
+        self.begins(&st.g, &mut v);
+        !v.is_empty()
+    }
+
+    /// The invariants of a state, as `x ≤ c`.
+    pub fn invariants(&self, st: &TG3State) -> Vec<(usize, i64)> {
+        let mut out = Vec::new();
+        for t in 0..self.e.m.tasks.len() {
+            if let (Some(x), Some(p)) = (self.period_clock[t], self.period[t]) {
+                let first = st.ticked >> t & 1 == 0;
+                out.push((x, if first { self.delay[t] } else { p }));
+            }
+            if let Some((who, i)) = self.running(&st.g, t) {
+                if let Some(w) = self.locks.wcet(who.owner(), i.state) {
+                    out.push((self.exec_clock[t], w));
+                }
+            }
+        }
+        out
+    }
+
+    /// Lets time pass (unless urgent or violated) under the invariants,
+    /// frees the clocks of idle tasks, extrapolates.
+    pub fn let_time_pass(&self, mut st: TG3State) -> TG3State {
+        if st.violation.is_none() && !self.urgent(&st) {
+            st.zone.up();
+        }
+        for (x, c) in self.invariants(&st) {
+            st.zone.upper(x, c);
+        }
+        for t in 0..self.e.m.tasks.len() {
+            if self.running(&st.g, t).is_none() {
+                st.zone.free(self.exec_clock[t]);
+            }
+        }
+        // Only zones of the model's own clocks (trace zones have more).
+        let own = st.zone.clocks() == self.clock_count();
+        if self.extrapolate && own && !st.zone.is_empty() {
+            st.zone.extrapolate(&self.bounds, &self.bounds);
+        }
+        st
+    }
+}
+
+/// The time unit: the GCD of the periods, delays and WCETs (1 ns without
+/// any).
+fn unit_ns(m: &Machine<'_>) -> u64 {
+    let mut g = 0;
+    for t in &m.tasks {
+        g = gcd(gcd(g, t.period_ns.unwrap_or(0)), t.delay_ns);
+        for s in t.perm.iter().flat_map(|f| f.states.iter()) {
+            g = gcd(g, s.wcet_ns.unwrap_or(0));
+        }
+    }
+    for a in &m.activities {
+        for s in &a.fsm.states {
+            g = gcd(g, s.wcet_ns.unwrap_or(0));
+        }
+    }
+    g.max(1)
+}
+
+impl Model for TimedEngine<'_> {
+    type State = TG3State;
+    type Action = TG3Action;
+    type Zone = Dbm;
+
+    fn limit_period(&self) -> u64 {
+        if self.clock_count() > 32 { 1 } else { 64 }
+    }
+
+    fn width(&self) -> usize {
+        self.e.width() + 2
+    }
+
+    fn init_states(&self) -> Vec<TG3State> {
+        vec![self.start(0)]
+    }
+
+    fn actions(&self, st: &TG3State, out: &mut Vec<TG3Action>) {
+        self.enabled(st, out);
+    }
+
+    fn next_state(&self, st: &TG3State, a: TG3Action) -> Option<TG3State> {
+        let n = self.fire(st, a)?;
+        let n = self.let_time_pass(n);
+        (!n.zone.is_empty()).then_some(n)
+    }
+
+    fn encode(&self, st: &TG3State, out: &mut Vec<u64>) {
+        self.e.encode(&st.g, out);
+        let v = st.violation.map_or(0, |t| u64::from(t) + 1);
+        out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
+        out.push(v);
+    }
+
+    fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
+        let k = self.e.width();
+        let g = self.e.decode(&w[..k], &());
+        let bits = w.get(k).copied().unwrap_or(0);
+        let v = w.get(k + 1).copied().unwrap_or(0);
+        TG3State {
+            g,
+            cont: bits & 0xffff_ffff,
+            ticked: bits >> 32,
+            violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
+            zone: zone.clone(),
+        }
+    }
+
+    fn zone(&self, st: &TG3State) -> Dbm {
+        st.zone.clone()
+    }
+
+    fn expand(&self, st: &TG3State) -> bool {
+        st.violation.is_none()
+    }
+}
+
+/// Service index of an activity (for `done` bits).
+pub(crate) fn service_index(m: &Machine<'_>, a: usize) -> usize {
+    m.activities[a].service.index()
+}
+
+/// Whether an instance is started and not running a codel.
+pub(crate) fn idle_running(i: Inst) -> bool {
+    matches!(i.status, Status::Run | Status::Stop) && !i.has(mark::BUSY)
+}
+
+#[cfg(test)]
+mod tests;

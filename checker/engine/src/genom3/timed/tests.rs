@@ -1,0 +1,133 @@
+//! The timed GenoM3 engine on the timing fixtures of
+//! `tests/fixtures/genom3/timing/`: which task overruns, and what its
+//! trace shows.
+
+use genom_model::trace::{Event, Trace};
+
+use super::analysis::{TimingAnalysis, analyse_timing};
+use crate::engine::explore::Limits;
+use crate::genom3::machine::Machine;
+use crate::testing::load_genom3_wcet;
+
+macro_rules! fixture {
+    ($name:literal) => {
+        (
+            include_str!(concat!(
+                "../../../../../tests/fixtures/genom3/timing/",
+                $name,
+                ".gen"
+            )),
+            include_str!(concat!(
+                "../../../../../tests/fixtures/genom3/timing/",
+                $name,
+                ".wcet"
+            )),
+        )
+    };
+}
+
+fn timing((text, wcet): (&str, &str), instances: usize) -> (TimingAnalysis, Vec<String>) {
+    let c = load_genom3_wcet(text, wcet);
+    let m = Machine::new(&c, instances).expect("a GenoM3 component");
+    let names = m.tasks.iter().map(|t| t.name.clone()).collect();
+    let a = analyse_timing(&m, Limits::default()).expect("few tasks");
+    assert!(a.stopped.is_none(), "complete");
+    (a, names)
+}
+
+fn overrunning(a: &TimingAnalysis, names: &[String]) -> Vec<String> {
+    a.overruns.iter().map(|o| names[o.task].clone()).collect()
+}
+
+/// Instants of the codel steps of `service`'s `codel`: (start, end).
+fn codel_times(t: &Trace, codel: &str) -> Vec<(Event, u64)> {
+    t.steps
+        .iter()
+        .filter(|s| s.codel.as_deref() == Some(codel))
+        .filter(|s| matches!(s.event, Event::CodelStart | Event::CodelEnd))
+        .map(|s| (s.event, s.time_ns.expect("timed")))
+        .collect()
+}
+
+#[test]
+fn an_unpaused_chain_runs_in_one_period_and_overruns() {
+    let (a, names) = timing(fixture!("f1b_chain_overrun"), 1);
+    assert_eq!(overrunning(&a, &names), ["t"]);
+    let t = &a.overruns[0].trace;
+    // `start` and `exec` run back to back after one tick, and the next tick
+    // (10 ms later) comes while `exec` runs.
+    let start = codel_times(t, "start");
+    let exec = codel_times(t, "exec");
+    assert_eq!(start.len(), 2, "{t:#?}");
+    assert_eq!(exec.first().map(|x| x.0), Some(Event::CodelStart));
+    let ticks: Vec<u64> = t
+        .steps
+        .iter()
+        .filter(|s| s.event == Event::WakeUp)
+        .filter_map(|s| s.time_ns)
+        .collect();
+    let tick = ticks[ticks.len() - 2];
+    let end = t.steps.last().and_then(|s| s.time_ns).expect("timed");
+    assert_eq!(end - tick, 10_000_000, "one period after the tick");
+    assert!(exec[0].1 < end && start[0].1 >= tick);
+    assert_eq!(t.steps.last().map(|s| s.event), Some(Event::Violation));
+}
+
+#[test]
+fn a_paused_chain_fits_its_period() {
+    let (a, names) = timing(fixture!("f1b_chain_paused"), 1);
+    assert!(overrunning(&a, &names).is_empty());
+    assert!(a.states > 3);
+}
+
+#[test]
+fn instances_of_one_activity_share_the_period() {
+    let (one, names) = timing(fixture!("f4_instances"), 1);
+    assert!(overrunning(&one, &names).is_empty());
+    let (two, names) = timing(fixture!("f4_instances"), 2);
+    assert_eq!(overrunning(&two, &names), ["t"]);
+    let runs = codel_times(&two.overruns[0].trace, "run");
+    assert!(runs.iter().filter(|r| r.0 == Event::CodelStart).count() >= 2);
+    let (self_int, names) = timing(fixture!("f4_self_interrupt"), 2);
+    assert!(overrunning(&self_int, &names).is_empty());
+}
+
+#[test]
+fn port_readers_exclude_each_other_disjoint_writers_do_not() {
+    let (a, names) = timing(fixture!("f9_granularity"), 1);
+    let over = overrunning(&a, &names);
+    assert!(!over.is_empty());
+    let (w, names) = timing(fixture!("f9_writers"), 1);
+    assert!(overrunning(&w, &names).is_empty());
+    // The overrun waits for the port: one reader starts only after the
+    // other's 6 ms.
+    let t = &a.overruns[0].trace;
+    let starts: Vec<u64> = t
+        .steps
+        .iter()
+        .filter(|s| s.event == Event::CodelStart)
+        .filter_map(|s| s.time_ns)
+        .collect();
+    assert!(
+        starts.windows(2).any(|w| w[1] - w[0] >= 4_000_000),
+        "{t:#?}"
+    );
+}
+
+#[test]
+fn a_permanent_codel_holds_its_lock_every_period() {
+    let (a, names) = timing(fixture!("f3_permanent_lock"), 1);
+    // Both ways: `reader` may wait 9 ms for `f3_main`, and `f3_main` 2 ms
+    // for `reader` (GenoM3's exclusion lists are symmetric here).
+    assert_eq!(overrunning(&a, &names), ["t", "u"]);
+    let u = &a.overruns[1].trace;
+    let main_end = codel_times(u, "main");
+    let read = codel_times(u, "start");
+    assert!(
+        read.iter().any(|r| r.0 == Event::CodelStart
+            && main_end
+                .iter()
+                .any(|m| m.0 == Event::CodelEnd && m.1 <= r.1)),
+        "{u:#?}"
+    );
+}

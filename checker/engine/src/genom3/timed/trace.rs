@@ -1,0 +1,131 @@
+//! Concrete timed traces of the timed GenoM3 model. A symbolic path is
+//! fired again without extrapolation, with extra clocks: `T` (absolute
+//! time, never reset) and one snapshot clock per step, reset at that step.
+//! Any point of the final zone then gives consistent instants for the
+//! whole path: step `i` happens at `T − sᵢ` (the technique of
+//! `crate::timed::trace`).
+//!
+//! Step vocabulary, besides the untimed engine's ([`crate::genom3::trace`]):
+//!
+//! | event | thread | service | codel | outcome |
+//! |---|---|---|---|---|
+//! | `wake-up` | the task | | | `tick` (periodic) or `activation` (aperiodic) |
+//! | `codel-start` | the task | the activity (none for a permanent codel) | the state | |
+//!
+//! Every step carries its instant.
+
+use genom_model::render::human::format_ns;
+use genom_model::trace::{Event, Trace, TraceStep};
+
+use super::{TG3Action, TG3State, TimedEngine, Who};
+use crate::genom3::state::Inst;
+use crate::genom3::trace::{codel_text, step};
+
+/// The concrete trace of `path`, with `last` at the final instant.
+pub fn timed_trace(te: &TimedEngine<'_>, path: &[TG3Action], last: TraceStep) -> Trace {
+    let base = te.clock_count();
+    let mut st = te.start(1 + path.len());
+    let mut steps = vec![TraceStep::new(
+        Event::ComponentStart,
+        "the component starts; periodic tasks wake at their ticks, the first at their `delay`",
+    )];
+    let mut marks = vec![0usize];
+    for (k, &a) in path.iter().enumerate() {
+        let Some(mut next) = te.fire(&st, a) else {
+            break;
+        };
+        next.zone.reset(base + 2 + k);
+        let next = te.let_time_pass(next);
+        marks.push(steps.len());
+        steps.push(render(te, &st, &next, a));
+        st = next;
+    }
+    let mut trace = Trace {
+        steps,
+        loop_start: None,
+    };
+    let Some((values, scale)) = st.zone.pick() else {
+        trace.steps.push(last);
+        return trace;
+    };
+    let now = values[base];
+    let to_ns = |v: i64| {
+        let ns = i128::from(v) * i128::from(te.unit) / i128::from(scale.max(1));
+        u64::try_from(ns.max(0)).unwrap_or(u64::MAX)
+    };
+    trace.steps[0].time_ns = Some(0);
+    for (m, &at) in marks.iter().enumerate().skip(1) {
+        trace.steps[at].time_ns = Some(to_ns(now - values[base + m]));
+    }
+    let mut last = last;
+    last.time_ns = Some(to_ns(now));
+    trace.steps.push(last);
+    trace
+}
+
+/// The step of action `a` from `before` to `after`.
+fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Action) -> TraceStep {
+    let m = te.m();
+    let task = |t: u8| m.tasks[usize::from(t)].name.clone();
+    match a {
+        TG3Action::Control(c) => step(&te.e, &before.g, &after.g, c),
+        TG3Action::Tick(t) => {
+            let p = format_ns(m.tasks[usize::from(t)].period_ns.unwrap_or(0));
+            let text = if after.violation.is_some() {
+                format!(
+                    "task `{}` reaches its tick (period {p}) still busy",
+                    task(t)
+                )
+            } else {
+                format!(
+                    "task `{}` wakes up at its tick (period {p}): accepted instances start, paused ones resume",
+                    task(t)
+                )
+            };
+            let mut s = TraceStep::new(Event::WakeUp, text);
+            s.thread = Some(task(t));
+            s.outcome = Some("tick".to_owned());
+            s
+        }
+        TG3Action::Wake(t) => {
+            let mut s = TraceStep::new(
+                Event::WakeUp,
+                format!(
+                    "aperiodic task `{}` is activated: accepted instances start, paused ones resume",
+                    task(t)
+                ),
+            );
+            s.thread = Some(task(t));
+            s.outcome = Some("activation".to_owned());
+            s
+        }
+        TG3Action::Begin(who, v) => {
+            let state = Inst::unpack(v).map_or(0, |i| i.state);
+            let owner = who.owner();
+            let st = &m.fsm(owner).states[usize::from(state)];
+            let wcet = st
+                .wcet_ns
+                .map_or("no WCET".to_owned(), |w| format!("WCET {}", format_ns(w)));
+            let mut s = TraceStep::new(
+                Event::CodelStart,
+                format!(
+                    "{} begins codel `{}` in state `{}` ({wcet})",
+                    crate::genom3::analysis::describe(&te.e, owner),
+                    st.function,
+                    st.name
+                ),
+            );
+            s.thread = Some(m.tasks[m.task_of(owner)].name.clone());
+            if let Who::Act(x) = who {
+                s.service = Some(m.activity_name(usize::from(x)).to_owned());
+            }
+            s.codel = Some(st.name.clone());
+            s.span = Some(st.span);
+            s
+        }
+        TG3Action::End(who, v, o) => {
+            let state = Inst::unpack(v).map_or(0, |i| i.state);
+            codel_text(&te.e, who.owner(), state, o, &before.g, &after.g)
+        }
+    }
+}
