@@ -256,6 +256,9 @@ pub struct Machine<'a> {
     pub max_instances: usize,
     /// Slots of one task (its permanent activity included).
     pub pool: usize,
+    /// Per service: its control codels (`validate`, then a function's
+    /// codels), run in that order on the control thread.
+    pub control_codels: BTreeMap<ServiceId, Vec<FsmState>>,
 }
 
 /// What a service is to the engine.
@@ -342,8 +345,10 @@ impl<'a> Machine<'a> {
             after.insert(i.service, i.after.iter().map(|r| r.id).collect());
             before.insert(i.service, i.before.iter().map(|r| r.id).collect());
         }
+        let control_codels = control_codels(c, g);
         Some(Machine {
             c,
+            control_codels,
             tasks,
             activities,
             controls,
@@ -434,6 +439,33 @@ fn tasks(c: &Component, g: &Genom3Info) -> Vec<TaskM> {
             }
         })
         .collect()
+}
+
+/// The control codels of every service that has some, in order.
+fn control_codels(c: &Component, g: &Genom3Info) -> BTreeMap<ServiceId, Vec<FsmState>> {
+    let mut out: BTreeMap<ServiceId, Vec<FsmState>> = BTreeMap::new();
+    for (sid, s) in c.services.iter() {
+        for &k in &s.codels {
+            let codel = &c.codels[k];
+            if codel.kind != genom_model::kinds::CodelKind::Control {
+                continue;
+            }
+            let Some(info) = g.codels.iter().find(|i| i.codel == k) else {
+                continue;
+            };
+            out.entry(sid).or_default().push(FsmState {
+                name: codel.name.name.clone(),
+                function: info.fsm.function.name.clone(),
+                codel: Some(k),
+                span: info.fsm.span,
+                yields: Vec::new(),
+                is_async: false,
+                wcet_ns: codel.wcet.map(|w| w.ns),
+                access: Access::of(&info.fsm),
+            });
+        }
+    }
+    out
 }
 
 fn service_fsm(c: &Component, g: &Genom3Info, sid: ServiceId) -> Fsm {

@@ -8,8 +8,13 @@
 //! except a codel of a service that interrupts the first codel's own
 //! service (GenoM3's generator leaves those out; the exception is
 //! one-sided). Codels of one task never exclude each other, and an `async`
-//! codel takes no lock (7.1). Control codels take no time in this model,
-//! so they hold no lock.
+//! codel takes no lock (7.1). Control codels (`validate`, a function's
+//! codels) exclude the conflicting FSM codels of every task and are
+//! excluded by them; they never exclude each other (one control thread).
+
+use std::collections::BTreeMap;
+
+use genom_model::component::ServiceId;
 
 use crate::genom3::machine::{Fsm, Machine, Owner};
 
@@ -20,6 +25,8 @@ pub struct Locks {
     act_base: Vec<usize>,
     /// First key of each task's permanent states.
     perm_base: Vec<usize>,
+    /// First key of each service's control codels.
+    ctl_base: BTreeMap<ServiceId, usize>,
     /// Per key: upper bound of its duration (`None`: unbounded, `async`).
     upper: Vec<Option<i64>>,
     /// Per key: lower bound of its duration (an `async` codel's WCET).
@@ -28,6 +35,8 @@ pub struct Locks {
     excl: Vec<Vec<usize>>,
     /// Per task: the largest duration constant of its codels.
     task_bound: Vec<i64>,
+    /// The largest duration of a control codel.
+    pub ctl_bound: i64,
 }
 
 impl Locks {
@@ -48,6 +57,13 @@ impl Locks {
             owners.push((Owner::Task(t), t, fsm));
             next += fsm.states.len();
         }
+        let mut ctl_base = BTreeMap::new();
+        let mut ctl_fsms = Vec::new();
+        for (&sid, states) in &m.control_codels {
+            ctl_base.insert(sid, next);
+            next += states.len();
+            ctl_fsms.push(states);
+        }
         let units = |ns: u64| i64::try_from(ns / unit.max(1)).unwrap_or(i64::MAX / 4);
         let mut upper = Vec::with_capacity(next);
         let mut lower = Vec::with_capacity(next);
@@ -59,8 +75,17 @@ impl Locks {
                 upper.push((!st.is_async).then_some(w));
                 lower.push(if st.is_async { w } else { 0 });
                 task_bound[task] = task_bound[task].max(w);
-                codels.push((owner, task, st));
+                codels.push((Some(owner), task, st));
             }
+        }
+        // The control thread: no task, no owner.
+        let mut ctl_bound = 0;
+        for st in ctl_fsms.into_iter().flatten() {
+            let w = st.wcet_ns.map_or(0, units);
+            upper.push(Some(w));
+            lower.push(0);
+            ctl_bound = ctl_bound.max(w);
+            codels.push((None, usize::MAX, st));
         }
         let excl = codels
             .iter()
@@ -85,6 +110,8 @@ impl Locks {
         Locks {
             act_base,
             perm_base,
+            ctl_base,
+            ctl_bound,
             upper,
             lower,
             excl,
@@ -99,6 +126,16 @@ impl Locks {
             Owner::Task(t) => self.perm_base[t],
         };
         base + usize::from(state)
+    }
+
+    /// The key of service `sid`'s `i`-th control codel.
+    pub fn ctl_key(&self, sid: ServiceId, i: usize) -> Option<usize> {
+        self.ctl_base.get(&sid).map(|b| b + i)
+    }
+
+    /// The duration bound of the codel of key `k`.
+    pub fn wcet_of(&self, k: usize) -> Option<i64> {
+        self.upper[k]
     }
 
     /// Upper bound of the codel's duration (`None`: unbounded).
@@ -123,9 +160,11 @@ impl Locks {
 }
 
 /// Whether `by`'s service interrupts `target`'s (both activities).
-fn interrupts(m: &Machine<'_>, by: Owner, target: Owner) -> bool {
+fn interrupts(m: &Machine<'_>, by: Option<Owner>, target: Option<Owner>) -> bool {
     match (by, target) {
-        (Owner::Activity(b), Owner::Activity(a)) => m.activities[b].interrupts.contains(&a),
+        (Some(Owner::Activity(b)), Some(Owner::Activity(a))) => {
+            m.activities[b].interrupts.contains(&a)
+        }
         _ => false,
     }
 }

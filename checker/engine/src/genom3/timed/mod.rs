@@ -71,6 +71,15 @@ pub enum TG3Action {
     Tick(u8),
     /// Aperiodic task `t` is activated.
     Wake(u8),
+    /// The control thread takes a request whose service has control
+    /// codels (`validate`, a function's codels): they run in turn.
+    CtlBegin(G3Action),
+    /// The control thread begins its next control codel (its locks are
+    /// free).
+    CtlPhase,
+    /// The running control codel ends: success (the next one, or the
+    /// request's effect) or an exception (rejected, nothing changes).
+    CtlEnd(bool),
     /// An instance (packed) begins the codel of its state.
     Begin(Who, u16),
     /// The running instance (packed) ends its codel with outcome `o`.
@@ -89,8 +98,46 @@ pub struct TG3State {
     pub ticked: u64,
     /// The task whose tick found its work unfinished (terminal).
     pub violation: Option<u8>,
+    /// The request the control thread handles, if it runs control codels.
+    pub ctl: Option<Ctl>,
     /// The clock zone.
     pub zone: Dbm,
+}
+
+/// A request on the control thread, with control codels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Ctl {
+    /// What it does once its codels succeeded.
+    pub job: G3Action,
+    /// Which of its control codels is next or running.
+    pub phase: u8,
+    /// Whether that codel runs (else it waits for its locks).
+    pub running: bool,
+}
+
+impl Ctl {
+    fn pack(self) -> u64 {
+        let (kind, x) = match self.job {
+            G3Action::Accept(a) => (1, a),
+            G3Action::Call(k) => (2, k),
+            _ => (3, 0),
+        };
+        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1 | u64::from(self.running)
+    }
+
+    fn unpack(v: u64) -> Option<Ctl> {
+        let x = ((v >> 16) & 0xffff) as u16;
+        let job = match v >> 40 {
+            1 => G3Action::Accept(x),
+            2 => G3Action::Call(x),
+            _ => return None,
+        };
+        Some(Ctl {
+            job,
+            phase: ((v >> 1) & 0xff) as u8,
+            running: v & 1 == 1,
+        })
+    }
 }
 
 /// The timed GenoM3 model of a machine.
@@ -108,12 +155,17 @@ pub struct TimedEngine<'a> {
     pub period_clock: Vec<Option<usize>>,
     /// Per task: its execution clock.
     pub exec_clock: Vec<usize>,
+    /// The control thread's execution clock.
+    pub ctl_clock: usize,
     /// Per task: its activities.
     pub acts_of: Vec<Vec<usize>>,
     /// The codels' WCETs and exclusion lists.
     pub locks: locks::Locks,
     /// Largest constant each clock is compared with (index: clock − 1).
     bounds: Vec<Option<i64>>,
+    /// The `done` bits that matter: services some `after`/`before` names
+    /// (the others are cleared, so that they do not split states).
+    tracked: Vec<u64>,
     /// Apply extrapolation (off to compute concrete traces).
     pub extrapolate: bool,
 }
@@ -146,6 +198,8 @@ impl<'a> TimedEngine<'a> {
             bounds.push(Some(locks.task_bound(t)));
             exec_clock.push(bounds.len());
         }
+        bounds.push(Some(locks.ctl_bound));
+        let ctl_clock = bounds.len();
         let acts_of = (0..n)
             .map(|t| {
                 (0..m.activities.len())
@@ -153,13 +207,19 @@ impl<'a> TimedEngine<'a> {
                     .collect()
             })
             .collect();
+        let mut tracked = vec![0u64; m.c.services.len().div_ceil(64).max(1)];
+        for s in m.after.values().chain(m.before.values()).flatten() {
+            tracked[s.index() / 64] |= 1 << (s.index() % 64);
+        }
         Some(TimedEngine {
+            tracked,
             e: Engine::new(m),
             unit,
             period,
             delay,
             period_clock,
             exec_clock,
+            ctl_clock,
             acts_of,
             locks,
             bounds,
@@ -184,6 +244,7 @@ impl<'a> TimedEngine<'a> {
             cont: 0,
             ticked: 0,
             violation: None,
+            ctl: None,
             zone: Dbm::zero(self.clock_count() + extra),
         };
         self.finish(st)
@@ -231,32 +292,94 @@ impl<'a> TimedEngine<'a> {
 
     /// Whether task `t` (idle) may begin the codel of `i` now: its locks
     /// are free.
-    pub fn may_begin(&self, g: &G3State, t: usize, who: Who, i: Inst) -> bool {
+    pub fn may_begin(&self, st: &TG3State, t: usize, who: Who, i: Inst) -> bool {
         let k = self.locks.key(who.owner(), i.state);
-        (0..self.e.m.tasks.len()).filter(|&u| u != t).all(|u| {
-            self.running(g, u)
-                .is_none_or(|(w, j)| !self.locks.excludes(k, self.locks.key(w.owner(), j.state)))
-        })
+        self.holders(st, Some(t))
+            .iter()
+            .all(|&(j, _, _)| !self.locks.excludes(k, j))
     }
 
-    /// The codels some task may begin now (time may not pass then).
-    pub fn begins(&self, g: &G3State, out: &mut Vec<TG3Action>) {
+    /// The running codels (key, clock, WCET) that a codel of task `except`
+    /// may wait for: those of the other tasks and of the control thread;
+    /// with `None` (for a control codel), those of every task.
+    pub fn holders(
+        &self,
+        st: &TG3State,
+        except: Option<usize>,
+    ) -> Vec<(usize, usize, Option<i64>)> {
+        let mut out = Vec::new();
+        for u in (0..self.e.m.tasks.len()).filter(|&u| Some(u) != except) {
+            if let Some((w, j)) = self.running(&st.g, u) {
+                let k = self.locks.key(w.owner(), j.state);
+                out.push((k, self.exec_clock[u], self.locks.wcet_of(k)));
+            }
+        }
+        let ctl_running = st.ctl.is_some_and(|c| c.running);
+        if let Some(k) = self
+            .ctl_codel(st)
+            .filter(|_| ctl_running && except.is_some())
+        {
+            out.push((k, self.ctl_clock, self.locks.wcet_of(k)));
+        }
+        out
+    }
+
+    /// The key of the control codel next or running, if any.
+    pub fn ctl_codel(&self, st: &TG3State) -> Option<usize> {
+        let c = st.ctl?;
+        self.locks
+            .ctl_key(self.job_service(c.job)?, usize::from(c.phase))
+    }
+
+    /// The service of a control-thread job.
+    pub fn job_service(&self, job: G3Action) -> Option<genom_model::component::ServiceId> {
+        match job {
+            G3Action::Accept(a) => Some(self.e.m.activities[usize::from(a)].service),
+            G3Action::Call(k) => Some(self.e.m.controls[usize::from(k)].service),
+            _ => None,
+        }
+    }
+
+    /// Number of control codels of a job.
+    pub fn job_codels(&self, job: G3Action) -> usize {
+        self.job_service(job)
+            .and_then(|s| self.e.m.control_codels.get(&s))
+            .map_or(0, Vec::len)
+    }
+
+    /// Whether the control thread may begin its next control codel now.
+    pub fn ctl_may_begin(&self, st: &TG3State) -> bool {
+        let (Some(c), Some(k)) = (st.ctl, self.ctl_codel(st)) else {
+            return false;
+        };
+        !c.running
+            && self
+                .holders(st, None)
+                .iter()
+                .all(|&(j, _, _)| !self.locks.excludes(k, j))
+    }
+
+    /// The codels some thread may begin now (time may not pass then).
+    pub fn begins(&self, st: &TG3State, out: &mut Vec<TG3Action>) {
         for t in 0..self.e.m.tasks.len() {
-            if !self.spawned(g, t) || self.running(g, t).is_some() {
+            if !self.spawned(&st.g, t) || self.running(&st.g, t).is_some() {
                 continue;
             }
-            for (who, i) in self.instances(g, t) {
-                if i.has(mark::DUE) && self.may_begin(g, t, who, i) {
+            for (who, i) in self.instances(&st.g, t) {
+                if i.has(mark::DUE) && self.may_begin(st, t, who, i) {
                     out.push(TG3Action::Begin(who, i.pack()));
                 }
             }
+        }
+        if self.ctl_may_begin(st) {
+            out.push(TG3Action::CtlPhase);
         }
     }
 
     /// Whether time may not pass: some codel may begin.
     pub fn urgent(&self, st: &TG3State) -> bool {
         let mut v = Vec::new();
-        self.begins(&st.g, &mut v);
+        self.begins(st, &mut v);
         !v.is_empty()
     }
 
@@ -272,6 +395,11 @@ impl<'a> TimedEngine<'a> {
                 if let Some(w) = self.locks.wcet(who.owner(), i.state) {
                     out.push((self.exec_clock[t], w));
                 }
+            }
+        }
+        if st.ctl.is_some_and(|c| c.running) {
+            if let Some(w) = self.ctl_codel(st).and_then(|k| self.locks.wcet_of(k)) {
+                out.push((self.ctl_clock, w));
             }
         }
         out
@@ -290,6 +418,9 @@ impl<'a> TimedEngine<'a> {
             if self.running(&st.g, t).is_none() {
                 st.zone.free(self.exec_clock[t]);
             }
+        }
+        if !st.ctl.is_some_and(|c| c.running) {
+            st.zone.free(self.ctl_clock);
         }
         // Only zones of the model's own clocks (trace zones have more).
         let own = st.zone.clocks() == self.clock_count();
@@ -328,7 +459,7 @@ impl Model for TimedEngine<'_> {
     }
 
     fn width(&self) -> usize {
-        self.e.width() + 2
+        self.e.width() + 3
     }
 
     fn init_states(&self) -> Vec<TG3State> {
@@ -340,7 +471,10 @@ impl Model for TimedEngine<'_> {
     }
 
     fn next_state(&self, st: &TG3State, a: TG3Action) -> Option<TG3State> {
-        let n = self.fire(st, a)?;
+        let mut n = self.fire(st, a)?;
+        for (d, t) in n.g.done.iter_mut().zip(&self.tracked) {
+            *d &= t;
+        }
         let n = self.let_time_pass(n);
         (!n.zone.is_empty()).then_some(n)
     }
@@ -350,6 +484,7 @@ impl Model for TimedEngine<'_> {
         let v = st.violation.map_or(0, |t| u64::from(t) + 1);
         out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
         out.push(v);
+        out.push(st.ctl.map_or(0, Ctl::pack));
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
@@ -357,11 +492,13 @@ impl Model for TimedEngine<'_> {
         let g = self.e.decode(&w[..k], &());
         let bits = w.get(k).copied().unwrap_or(0);
         let v = w.get(k + 1).copied().unwrap_or(0);
+        let ctl = w.get(k + 2).copied().and_then(Ctl::unpack);
         TG3State {
             g,
             cont: bits & 0xffff_ffff,
             ticked: bits >> 32,
             violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
+            ctl,
             zone: zone.clone(),
         }
     }

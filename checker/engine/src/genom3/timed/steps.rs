@@ -3,7 +3,7 @@
 //! (the untimed engine's), and after each of them the sweeps that follow
 //! at once ([`TimedEngine::finish`]).
 
-use super::{TG3Action, TG3State, TimedEngine, Who, idle_running, service_index};
+use super::{Ctl, TG3Action, TG3State, TimedEngine, Who, idle_running, service_index};
 use crate::engine::explore::Model;
 use crate::genom3::machine::Target;
 use crate::genom3::state::{G3State, Inst, Phase, Status, mark};
@@ -17,10 +17,19 @@ impl TimedEngine<'_> {
         if st.violation.is_some() || matches!(st.g.phase, Phase::Stopped | Phase::Failed) {
             return;
         }
-        if st.g.phase == Phase::Run {
+        if st.g.phase == Phase::Run && st.ctl.is_none() {
             let mut v = Vec::new();
             self.e.requests(&st.g, &mut v);
-            out.extend(v.into_iter().map(TG3Action::Control));
+            out.extend(v.into_iter().map(|u| {
+                if self.job_codels(u) > 0 {
+                    TG3Action::CtlBegin(u)
+                } else {
+                    TG3Action::Control(u)
+                }
+            }));
+        }
+        if st.ctl.is_some_and(|c| c.running) {
+            out.extend([TG3Action::CtlEnd(true), TG3Action::CtlEnd(false)]);
         }
         for t in 0..self.e.m.tasks.len() {
             if self.period[t].is_some() {
@@ -29,7 +38,7 @@ impl TimedEngine<'_> {
                 out.push(TG3Action::Wake(t as u8));
             }
         }
-        self.begins(&st.g, out);
+        self.begins(st, out);
         for t in 0..self.e.m.tasks.len() {
             if let Some((who, i)) = self.running(&st.g, t) {
                 let n = self.e.outcomes(who.owner(), i.state);
@@ -56,6 +65,34 @@ impl TimedEngine<'_> {
             TG3Action::Control(c) => n.g = self.e.next_state(&st.g, c)?,
             TG3Action::Tick(t) => return self.tick(n, usize::from(t)),
             TG3Action::Wake(t) => self.sweep(&mut n.g, usize::from(t), true),
+            TG3Action::CtlBegin(job) => {
+                n.ctl = Some(Ctl {
+                    job,
+                    phase: 0,
+                    running: false,
+                });
+            }
+            TG3Action::CtlPhase => {
+                let c = n.ctl?;
+                n.ctl = Some(Ctl { running: true, ..c });
+                n.zone.reset(self.ctl_clock);
+            }
+            TG3Action::CtlEnd(ok) => {
+                let c = n.ctl?;
+                let next = usize::from(c.phase) + 1;
+                n.ctl = None;
+                if ok && next < self.job_codels(c.job) {
+                    n.ctl = Some(Ctl {
+                        job: c.job,
+                        phase: c.phase + 1,
+                        running: false,
+                    });
+                } else if ok {
+                    if let Some(g) = self.e.next_state(&n.g, c.job) {
+                        n.g = g;
+                    }
+                }
+            }
             TG3Action::Begin(who, v) => {
                 let i = Inst::unpack(v)?;
                 let t = self.e.m.task_of(who.owner());
@@ -126,12 +163,9 @@ impl TimedEngine<'_> {
         if self.urgent(st) {
             return None;
         }
-        (0..self.e.m.tasks.len())
-            .filter(|&u| u != t)
-            .filter_map(|u| self.running(&st.g, u).map(|r| (u, r)))
-            .find_map(|(u, (who, i))| {
-                below(self.exec_clock[u], self.locks.wcet(who.owner(), i.state))
-            })
+        self.holders(st, Some(t))
+            .into_iter()
+            .find_map(|(_, clock, w)| below(clock, w))
     }
 
     /// Opens a sweep of task `t`: instances due to run a codel; when

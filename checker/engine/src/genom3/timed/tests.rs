@@ -131,3 +131,18 @@ fn a_permanent_codel_holds_its_lock_every_period() {
         "{u:#?}"
     );
 }
+
+#[test]
+fn a_control_codel_holds_its_locks_against_tasks() {
+    let (a, names) = timing(fixture!("f7_control_lock"), 1);
+    assert_eq!(overrunning(&a, &names), ["t"]);
+    let t = &a.overruns[0].trace;
+    let ctl: Vec<_> = t
+        .steps
+        .iter()
+        .filter(|s| s.thread.as_deref() == Some("control") && s.codel.as_deref() == Some("codel"))
+        .collect();
+    assert!(ctl.iter().any(|s| s.event == Event::CodelStart), "{t:#?}");
+    let (free, names) = timing(fixture!("f7_control_free"), 1);
+    assert!(overrunning(&free, &names).is_empty());
+}

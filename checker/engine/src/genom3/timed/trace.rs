@@ -99,6 +99,24 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
             s.outcome = Some("activation".to_owned());
             s
         }
+        TG3Action::CtlBegin(job) => {
+            let name = te.job_service(job).map_or("", |s| m.service_name(s));
+            let mut s = TraceStep::new(
+                Event::Request,
+                format!("the control thread takes a request for `{name}`"),
+            );
+            s.thread = Some("control".to_owned());
+            s.service = Some(name.to_owned());
+            s
+        }
+        TG3Action::CtlPhase | TG3Action::CtlEnd(_) => {
+            let mut s = ctl_step(te, before, a);
+            if let (TG3Action::CtlEnd(true), Some(c), None) = (a, before.ctl, after.ctl) {
+                let effect = step(&te.e, &before.g, &after.g, c.job);
+                s.text = format!("{}; {}", s.text, effect.text);
+            }
+            s
+        }
         TG3Action::Begin(who, v) => {
             let state = Inst::unpack(v).map_or(0, |i| i.state);
             let owner = who.owner();
@@ -128,4 +146,43 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
             codel_text(&te.e, who.owner(), state, o, &before.g, &after.g)
         }
     }
+}
+
+/// A control codel beginning or ending.
+fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep {
+    let m = te.m();
+    let job = before.ctl.map(|c| (c.job, usize::from(c.phase)));
+    let sid = job.and_then(|(j, _)| te.job_service(j));
+    let name = sid.map_or("", |s| m.service_name(s));
+    let st = sid
+        .zip(job)
+        .and_then(|(s, (_, p))| m.control_codels.get(&s)?.get(p));
+    let codel = st.map_or(String::new(), |x| x.name.clone());
+    let function = st.map_or(String::new(), |x| x.function.clone());
+    let (event, text, outcome) = match a {
+        TG3Action::CtlEnd(true) => (
+            Event::CodelEnd,
+            format!("`{name}`'s control codel `{function}` ({codel}) succeeds"),
+            Some("ok".to_owned()),
+        ),
+        TG3Action::CtlEnd(false) => (
+            Event::CodelEnd,
+            format!(
+                "`{name}`'s control codel `{function}` ({codel}) throws: the request ends with that exception"
+            ),
+            Some("exception".to_owned()),
+        ),
+        _ => (
+            Event::CodelStart,
+            format!("the control thread begins `{name}`'s control codel `{function}` ({codel})"),
+            None,
+        ),
+    };
+    let mut s = TraceStep::new(event, text);
+    s.thread = Some("control".to_owned());
+    s.service = Some(name.to_owned());
+    s.codel = Some(codel);
+    s.outcome = outcome;
+    s.span = st.map(|x| x.span);
+    s
 }
