@@ -91,26 +91,37 @@ fn a_genom3_file_is_recognised_and_its_static_checks_run() {
 }
 
 #[test]
-fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
+fn genom3_behaviour_is_explored_and_its_timing_checked() {
     // Without WCETs: the GenoM3 engine explores it and finds nothing.
     let (status, file) = json(&[DEMO]);
     assert_eq!(status, 0, "{file:#}");
     assert_eq!(file["statistics"]["complete"], Value::Bool(true));
     assert!(file["statistics"]["states"].as_u64().unwrap() > 1);
-    // With WCETs: the untimed verdicts stand, timing is left unproven.
+    // With WCETs: the timed GenoM3 engine checks schedulability. Task `io`
+    // (period 20 ms) runs an `async` codel, unbounded: it overruns; `main`
+    // does not.
     let (status, file) = json(&["--wcet", DEMO_WCET, DEMO]);
     assert_eq!(status, 1);
-    assert_eq!(codes(&file, "error"), ["incomplete"]);
-    let d = &file["diagnostics"][0];
-    assert!(d["message"].as_str().unwrap().contains("GenoM3"), "{d:#}");
+    assert_eq!(codes(&file, "error"), ["thread-overrun"]);
+    let d = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "thread-overrun")
+        .unwrap();
     assert!(
-        d["help"].as_str().unwrap().contains("thread-overrun"),
+        d["message"].as_str().unwrap().contains("task `io`"),
         "{d:#}"
     );
     assert_eq!(
         (d["line"].as_u64(), d["file"].as_str()),
-        (Some(7), Some(DEMO))
+        (Some(56), Some(DEMO))
     );
+    let steps = d["trace"].as_array().unwrap();
+    let last = steps.last().unwrap();
+    assert_eq!(last["event"], "violation");
+    assert!(last["text"].as_str().unwrap().contains("async"), "{last:#}");
+    assert_eq!(last["time_ns"].as_u64(), Some(21_000_000));
     assert_eq!(file["statistics"]["complete"], Value::Bool(true));
     // An export needs a verified model: refused, and allowed only marked.
     let refused = genom_check()
@@ -118,8 +129,9 @@ fn genom3_behaviour_is_explored_and_its_timing_is_incomplete_not_verified() {
         .output()
         .unwrap();
     assert_eq!(refused.status.code(), Some(1));
-    let stdout = String::from_utf8_lossy(&refused.stdout);
-    assert!(stdout.contains("incomplete"), "{stdout}");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("refusing to export"), "{stderr}");
+    assert!(stderr.contains("thread-overrun"), "{stderr}");
 }
 
 #[test]

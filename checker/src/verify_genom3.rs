@@ -3,7 +3,9 @@
 //! semantics, and its findings become diagnostics: `dead-service` (never
 //! accepted or started), `unreachable-codel` (a codel of an activity or of
 //! a task's permanent machine that no execution runs), `livelock` and
-//! `unpaused-loop`, and `incomplete` when a limit stopped it.
+//! `unpaused-loop`, and `incomplete` when a limit stopped it. With WCETs
+//! (`--wcet`), the timed GenoM3 engine ([`crate::genom3::timed`]) adds
+//! `thread-overrun` (schedulability of every periodic task).
 
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -11,8 +13,9 @@ use std::time::Instant;
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Diagnostic, Statistics, Trace};
 
-use crate::checks::{dead_service, incomplete, livelock, unreachable_codel};
+use crate::checks::{dead_service, incomplete, livelock, thread_overrun, unreachable_codel};
 use crate::genom3::steps::Engine;
+use crate::genom3::timed::analysis::analyse_timing;
 use crate::genom3::trace::refusal;
 use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine, machine::Fsm};
 use crate::verify::CheckOptions;
@@ -39,14 +42,48 @@ pub fn verify_genom3(
             "dead services, codel reachability and livelocks (GenoM3 semantics)",
         ));
     }
+    let (mut states, mut transitions) = (analysis.states, analysis.transitions);
+    if gives_timing(&m) {
+        match analyse_timing(&m, options.limits(started)) {
+            Some(timing) => {
+                out.extend(thread_overrun::check_genom3(&m, &timing));
+                if let Some(stop) = timing.stopped {
+                    out.push(incomplete::incomplete(
+                        c,
+                        stop,
+                        "schedulability of the tasks (GenoM3 timed semantics)",
+                    ));
+                }
+                states += timing.states;
+                transitions += timing.transitions;
+            }
+            None => out.push(incomplete::timing_not_modelled(
+                c,
+                "a component with more than 32 tasks",
+            )),
+        }
+    }
     let stats = Statistics {
-        states: analysis.states,
-        transitions: analysis.transitions,
+        states,
+        transitions,
         time_ms: started.elapsed().as_secs_f64() * 1000.0,
-        complete: analysis.stopped.is_none(),
+        complete: out.iter().all(|d| d.code != genom_model::Code::Incomplete),
         bytes_per_state: Some(analysis.bytes_per_state),
     };
     Some((out, stats))
+}
+
+/// Whether some codel has a WCET (from a WCET file).
+fn gives_timing(m: &Machine<'_>) -> bool {
+    let fsm_states = m
+        .activities
+        .iter()
+        .map(|a| &a.fsm)
+        .chain(m.tasks.iter().filter_map(|t| t.perm.as_ref()))
+        .flat_map(|f| f.states.iter());
+    fsm_states
+        .chain(m.control_codels.values().flatten())
+        .any(|s| s.wcet_ns.is_some())
 }
 
 /// Services no execution accepts (an activity: starts), with the reason.

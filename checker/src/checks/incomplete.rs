@@ -42,20 +42,17 @@ pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
     .with_help(format!("left unproven: {what}; raise the limit to finish"))
 }
 
-/// A component with WCETs whose timed semantics (those of `dialect`) the
-/// timed engine does not model: its untimed verdicts stand, its timing is
-/// unproven.
-pub fn timing_not_modelled(c: &Component, dialect: &str) -> Diagnostic {
+/// A component with WCETs whose timing the timed engine cannot model
+/// (`what` says why): its untimed verdicts stand, its timing is unproven.
+pub fn timing_not_modelled(c: &Component, what: &str) -> Diagnostic {
     Diagnostic::new(
         Code::Incomplete,
-        format!(
-            "verification is incomplete: the timed engine does not model {dialect}'s timing yet"
-        ),
+        format!("verification is incomplete: the timed engine does not model the timing of {what}"),
         c.name.span,
         "timing not verified",
     )
     .with_help(
-        "the untimed verdicts (dead services, codel reachability, livelocks) stand; schedulability (`thread-overrun`) and response times are left unproven",
+        "the untimed verdicts (dead services, codel reachability, livelocks) stand; schedulability (`thread-overrun`) is left unproven",
     )
 }
 

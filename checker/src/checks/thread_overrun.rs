@@ -6,6 +6,8 @@ use genom_model::component::Component;
 use genom_model::render::human::format_ns;
 use genom_model::{Code, Diagnostic};
 
+use crate::genom3::Machine;
+use crate::genom3::timed::analysis::TimingAnalysis;
 use crate::timed::TimedFacts;
 
 /// `genom-check explain thread-overrun`.
@@ -30,7 +32,29 @@ service b { thread: servo; start codel { exec: fb(); max-time: 6ms; next: start;
 
 Make the services exclusive (`stops`, `forbids`), shorten the codels, or
 run one of them on another thread. A codel without `max-time` counts as
-taking no time (see `missing-wcet`)."#;
+taking no time (see `missing-wcet`).
+
+GenoM3 components (`--wcet FILE` gives the WCETs): a task's wake-up runs
+every instance that is not paused, one codel each per sweep, and sweeps
+again at once while a codel yielded without `pause::`; so a chain of
+unpaused transitions, several instances of one activity, the task's
+permanent codels and the time spent waiting for GenoM3's locks (other
+tasks' and the control thread's codels that access the same ids members
+or ports) all count against the period.
+
+```
+task t { period 10 ms; };
+activity chain() {
+  task t;
+  codel<start> s() yield exec;          // 6 ms
+  codel<exec> e() yield pause::wait;    // 6 ms: same wake-up as `start`
+  codel<wait> w() yield pause::wait, ether;
+};
+```
+
+Add `pause::` so that a chain spreads over wake-ups, declare `interrupts`
+so that instances do not pile up, shorten the codels, or move an activity
+to another task."#;
 
 /// One diagnostic per thread that can overrun.
 pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
@@ -57,6 +81,41 @@ pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
                 "its codels of one period can take longer than the period",
             )
             .with_help("make the services it runs together exclusive, shorten their codels, or move one to another thread");
+            if let Some(p) = t.period {
+                d = d.with_label(p.span, "the period");
+            }
+            d.with_trace(o.trace.clone())
+        })
+        .collect()
+}
+
+/// One diagnostic per GenoM3 task that can overrun (the timed GenoM3
+/// engine's findings).
+pub fn check_genom3(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<Diagnostic> {
+    // A task with a codel longer than its period has `codel-overrun`.
+    let long_codel = |t: usize| {
+        let period = m.tasks[t].period_ns.unwrap_or(u64::MAX);
+        m.activities
+            .iter()
+            .filter(|a| a.task == t)
+            .flat_map(|a| a.fsm.states.iter())
+            .any(|s| s.wcet_ns.is_some_and(|w| w > period))
+    };
+    timing
+        .overruns
+        .iter()
+        .filter(|o| !long_codel(o.task))
+        .map(|o| {
+            let task = &m.tasks[o.task];
+            let t = &m.c.threads[task.thread];
+            let period = t.period.map_or(0, |p| p.ns);
+            let mut d = Diagnostic::new(
+                Code::ThreadOverrun,
+                format!("task `{}` can overrun its {} period", task.name, format_ns(period)),
+                t.name.span,
+                "its wake-up (every unpaused instance, chains without `pause::`, lock waits) can take longer than the period",
+            )
+            .with_help("add `pause::` between codels of a chain, make instances interrupt each other (`interrupts`), shorten the codels, or move an activity to another task");
             if let Some(p) = t.period {
                 d = d.with_label(p.span, "the period");
             }

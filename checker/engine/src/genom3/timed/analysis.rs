@@ -82,7 +82,13 @@ fn unfinished_text(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> String {
     for (who, i) in te.instances(&st.g, t) {
         let owner = who.owner();
         let state = &m.fsm(owner).states[usize::from(i.state)].name;
-        if i.has(mark::BUSY) {
+        let st = &m.fsm(owner).states[usize::from(i.state)];
+        if i.has(mark::BUSY) && st.is_async {
+            what.push(format!(
+                "{} still runs `async` codel `{state}`, which has no upper bound (it waits for an external event)",
+                describe(&te.e, owner)
+            ));
+        } else if i.has(mark::BUSY) {
             what.push(format!("{} still runs `{state}`", describe(&te.e, owner)));
         } else if i.has(mark::DUE) {
             what.push(format!(

@@ -148,6 +148,27 @@ impl Locks {
         self.lower[self.key(owner, state)]
     }
 
+    /// Whether codel `k` waits for, or makes wait, some other codel (else
+    /// its duration matters to no task).
+    pub fn contended(&self, k: usize) -> bool {
+        !self.excl[k].is_empty() || self.excl.iter().any(|e| e.binary_search(&k).is_ok())
+    }
+
+    /// What a codel is to the others: whom it waits for, who waits for it,
+    /// its duration bounds. Two codels with equal signatures are
+    /// interchangeable.
+    pub fn signature(&self, k: usize) -> (Vec<usize>, Vec<usize>, Option<i64>, i64) {
+        let waited_by = (0..self.excl.len())
+            .filter(|&j| self.excludes(j, k))
+            .collect();
+        (
+            self.excl[k].clone(),
+            waited_by,
+            self.upper[k],
+            self.lower[k],
+        )
+    }
+
     /// Whether codel `k` waits while codel `j` runs.
     pub fn excludes(&self, k: usize, j: usize) -> bool {
         self.excl[k].binary_search(&j).is_ok()

@@ -33,7 +33,9 @@ pub mod locks;
 mod steps;
 pub mod trace;
 
-use genom_model::component::Idx;
+use std::collections::BTreeMap;
+
+use genom_model::component::{Idx, ServiceId};
 
 use super::machine::{Machine, Owner};
 use super::state::{G3State, Inst, Status, mark};
@@ -163,6 +165,15 @@ pub struct TimedEngine<'a> {
     pub locks: locks::Locks,
     /// Largest constant each clock is compared with (index: clock − 1).
     bounds: Vec<Option<i64>>,
+    /// Per service: the control codels (indices) that take time and whose
+    /// locks some task's codel contends; the others run in no time here (a
+    /// request may come at any time, so their duration changes nothing a
+    /// task sees).
+    pub(crate) jobs: BTreeMap<ServiceId, Vec<usize>>,
+    /// Per control service: the one standing for it in requests, when its
+    /// request does nothing but run its contended codels and another's
+    /// codels look the same (then either's run is the other's).
+    pub(crate) canon: Vec<u16>,
     /// The `done` bits that matter: services some `after`/`before` names
     /// (the others are cleared, so that they do not split states).
     tracked: Vec<u64>,
@@ -211,7 +222,24 @@ impl<'a> TimedEngine<'a> {
         for s in m.after.values().chain(m.before.values()).flatten() {
             tracked[s.index() / 64] |= 1 << (s.index() % 64);
         }
+        let jobs = m
+            .control_codels
+            .iter()
+            .map(|(&sid, v)| {
+                let kept = (0..v.len())
+                    .filter(|&i| {
+                        locks.ctl_key(sid, i).is_some_and(|k| {
+                            locks.contended(k) && locks.wcet_of(k).is_some_and(|w| w > 0)
+                        })
+                    })
+                    .collect();
+                (sid, kept)
+            })
+            .collect();
+        let canon = canonical_calls(&m, &locks, &jobs, &tracked);
         Some(TimedEngine {
+            canon,
+            jobs,
             tracked,
             e: Engine::new(m),
             unit,
@@ -328,11 +356,11 @@ impl<'a> TimedEngine<'a> {
     pub fn ctl_codel(&self, st: &TG3State) -> Option<usize> {
         let c = st.ctl?;
         self.locks
-            .ctl_key(self.job_service(c.job)?, usize::from(c.phase))
+            .ctl_key(self.job_service(c.job)?, self.job_codel(c)?)
     }
 
     /// The service of a control-thread job.
-    pub fn job_service(&self, job: G3Action) -> Option<genom_model::component::ServiceId> {
+    pub fn job_service(&self, job: G3Action) -> Option<ServiceId> {
         match job {
             G3Action::Accept(a) => Some(self.e.m.activities[usize::from(a)].service),
             G3Action::Call(k) => Some(self.e.m.controls[usize::from(k)].service),
@@ -340,11 +368,17 @@ impl<'a> TimedEngine<'a> {
         }
     }
 
-    /// Number of control codels of a job.
+    /// Number of control codels of a job that hold contended locks.
     pub fn job_codels(&self, job: G3Action) -> usize {
         self.job_service(job)
-            .and_then(|s| self.e.m.control_codels.get(&s))
+            .and_then(|s| self.jobs.get(&s))
             .map_or(0, Vec::len)
+    }
+
+    /// The index among its service's control codels of the job's phase.
+    pub fn job_codel(&self, ctl: Ctl) -> Option<usize> {
+        let sid = self.job_service(ctl.job)?;
+        self.jobs.get(&sid)?.get(usize::from(ctl.phase)).copied()
     }
 
     /// Whether the control thread may begin its next control codel now.
@@ -357,6 +391,21 @@ impl<'a> TimedEngine<'a> {
                 .holders(st, None)
                 .iter()
                 .all(|&(j, _, _)| !self.locks.excludes(k, j))
+            && !self.task_waits_for(st, k)
+    }
+
+    /// Some idle task has a due codel that conflicts with control codel
+    /// `k`: it waits for a lock, so its ticket in GenoM3's FIFO comes
+    /// before the control thread's (8.3).
+    fn task_waits_for(&self, st: &TG3State, k: usize) -> bool {
+        (0..self.e.m.tasks.len()).any(|t| {
+            self.spawned(&st.g, t)
+                && self.running(&st.g, t).is_none()
+                && self.instances(&st.g, t).iter().any(|&(who, i)| {
+                    let j = self.locks.key(who.owner(), i.state);
+                    i.has(mark::DUE) && (self.locks.excludes(j, k) || self.locks.excludes(k, j))
+                })
+        })
     }
 
     /// The codels some thread may begin now (time may not pass then).
@@ -431,8 +480,41 @@ impl<'a> TimedEngine<'a> {
     }
 }
 
-/// The time unit: the GCD of the periods, delays and WCETs (1 ns without
-/// any).
+/// For each control service, the first one with the same contended codels
+/// when neither has another effect (no interruption, not a built-in, no
+/// `after`/`before` naming it).
+fn canonical_calls(
+    m: &Machine<'_>,
+    locks: &locks::Locks,
+    jobs: &BTreeMap<ServiceId, Vec<usize>>,
+    tracked: &[u64],
+) -> Vec<u16> {
+    let mut first = BTreeMap::new();
+    (0..m.controls.len())
+        .map(|k| {
+            let ctl = &m.controls[k];
+            let sid = ctl.service;
+            let watched = tracked[sid.index() / 64] >> (sid.index() % 64) & 1 == 1;
+            let inert = ctl.kind == super::machine::ControlKind::Plain
+                && ctl.interrupts.is_empty()
+                && !watched;
+            if !inert {
+                return k as u16;
+            }
+            let signature: Vec<_> = jobs
+                .get(&sid)
+                .into_iter()
+                .flatten()
+                .filter_map(|&i| locks.ctl_key(sid, i))
+                .map(|key| locks.signature(key))
+                .collect();
+            *first.entry(signature).or_insert(k as u16)
+        })
+        .collect()
+}
+
+/// The time unit: the GCD of the periods, delays and WCETs (control codels
+/// included; 1 ns without any).
 fn unit_ns(m: &Machine<'_>) -> u64 {
     let mut g = 0;
     for t in &m.tasks {
@@ -441,10 +523,13 @@ fn unit_ns(m: &Machine<'_>) -> u64 {
             g = gcd(g, s.wcet_ns.unwrap_or(0));
         }
     }
-    for a in &m.activities {
-        for s in &a.fsm.states {
-            g = gcd(g, s.wcet_ns.unwrap_or(0));
-        }
+    let states = m
+        .activities
+        .iter()
+        .flat_map(|a| a.fsm.states.iter())
+        .chain(m.control_codels.values().flatten());
+    for s in states {
+        g = gcd(g, s.wcet_ns.unwrap_or(0));
     }
     g.max(1)
 }

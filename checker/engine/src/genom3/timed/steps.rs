@@ -7,7 +7,7 @@ use super::{Ctl, TG3Action, TG3State, TimedEngine, Who, idle_running, service_in
 use crate::engine::explore::Model;
 use crate::genom3::machine::Target;
 use crate::genom3::state::{G3State, Inst, Phase, Status, mark};
-use crate::genom3::steps::{insert, remove, total};
+use crate::genom3::steps::{G3Action, insert, remove, total};
 use crate::zones::dbm::{Dbm, lt};
 
 impl TimedEngine<'_> {
@@ -20,6 +20,11 @@ impl TimedEngine<'_> {
         if st.g.phase == Phase::Run && st.ctl.is_none() {
             let mut v = Vec::new();
             self.e.requests(&st.g, &mut v);
+            // Interchangeable calls: one stands for all.
+            v.retain(|u| match *u {
+                G3Action::Call(k) => self.canon[usize::from(k)] == k,
+                _ => true,
+            });
             out.extend(v.into_iter().map(|u| {
                 if self.job_codels(u) > 0 {
                     TG3Action::CtlBegin(u)

@@ -146,3 +146,12 @@ fn a_control_codel_holds_its_locks_against_tasks() {
     let (free, names) = timing(fixture!("f7_control_free"), 1);
     assert!(overrunning(&free, &names).is_empty());
 }
+
+#[test]
+fn the_time_unit_divides_every_duration() {
+    let (text, wcet) = fixture!("f7_control_lock");
+    let c = load_genom3_wcet(text, wcet);
+    let te = super::TimedEngine::new(Machine::new(&c, 1).expect("GenoM3")).expect("few tasks");
+    // 10 ms, 6 ms and the control codel's 5 ms: 1 ms.
+    assert_eq!(te.unit, 1_000_000);
+}
