@@ -40,8 +40,8 @@ pub struct Engine<'a> {
     acts: Vec<bool>,
     /// Per control service: requested in this exploration.
     ctls: Vec<bool>,
-    /// Whether the tasks' permanent activities run.
-    perms: bool,
+    /// Per task: whether its permanent activity runs.
+    perms: Vec<bool>,
 }
 
 impl<'a> Engine<'a> {
@@ -55,6 +55,13 @@ impl<'a> Engine<'a> {
     /// services marked are requested; the permanent activities run if
     /// `perms`. The others stay idle (their slots empty).
     pub fn part(m: Machine<'a>, acts: Vec<bool>, ctls: Vec<bool>, perms: bool) -> Self {
+        let perms = vec![perms; m.tasks.len()];
+        Self::part_tasks(m, acts, ctls, perms)
+    }
+
+    /// [`Engine::part`] with the permanent activities of the tasks marked
+    /// in `perms` only.
+    pub fn part_tasks(m: Machine<'a>, acts: Vec<bool>, ctls: Vec<bool>, perms: Vec<bool>) -> Self {
         let done_words = m.c.services.len().div_ceil(64).max(1);
         Engine {
             m,
@@ -75,8 +82,9 @@ impl<'a> Engine<'a> {
                 .m
                 .tasks
                 .iter()
-                .map(|t| {
-                    if !self.perms {
+                .enumerate()
+                .map(|(k, t)| {
+                    if !self.perms[k] {
                         return None;
                     }
                     let start = t.perm.as_ref()?.start?;
@@ -191,7 +199,7 @@ impl<'a> Engine<'a> {
     /// Puts the permanent activity of the last task before `below` that
     /// has a stop codel in its stop state (`Stopped` when none is left).
     fn next_perm_stop(&self, s: &mut G3State, below: usize) {
-        for t in (0..below).rev().filter(|_| self.perms) {
+        for t in (0..below).rev().filter(|&t| self.perms[t]) {
             if let Some(stop) = self.m.tasks[t].perm.as_ref().and_then(|f| f.stop) {
                 s.perm[t] = Some(Inst::new(Status::Stop, stop));
                 s.phase = Phase::PermStop(t as u8);
@@ -244,7 +252,7 @@ impl<'a> Engine<'a> {
         }
         for (t, p) in s.perm.iter().enumerate() {
             let Some(i) = p else { continue };
-            if !self.perms {
+            if !self.perms[t] {
                 continue;
             }
             if s.phase == Phase::Boot && t > usize::from(s.booted) {

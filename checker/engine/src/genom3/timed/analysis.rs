@@ -1,5 +1,5 @@
-//! Explores the timed GenoM3 model of a whole component (locks and the
-//! shared timer couple every task, so it is not split into parts) and
+//! Explores the timed GenoM3 model of a component group by group (tasks
+//! coupled by locks or by their services' links, [`super::groups`]) and
 //! reads the schedulability verdict off it: which tasks can reach a tick
 //! with the work of their previous wake-up unfinished, each with the
 //! concrete timed trace of the first such tick found (breadth-first: a
@@ -10,6 +10,8 @@ use std::collections::BTreeMap;
 use genom_model::render::human::format_ns;
 use genom_model::trace::{Event, Trace, TraceStep};
 
+use super::groups::groups;
+use super::locks::Locks;
 use super::trace::timed_trace;
 use super::{TG3State, TimedEngine};
 use crate::engine::explore::{Limits, Stop, explore};
@@ -34,43 +36,58 @@ pub struct TimingAnalysis {
     pub states: u64,
     /// Transitions fired.
     pub transitions: u64,
-    /// Clocks of the model.
+    /// Clocks of the largest model.
     pub clocks: usize,
+    /// Groups explored.
+    pub groups: usize,
     /// Why the exploration stopped early, if it did.
     pub stopped: Option<Stop>,
     /// Tasks that can overrun, in task order.
     pub overruns: Vec<TaskOverrun>,
 }
 
-/// Explores the timed model of `m`; `None` when it has too many tasks
-/// for one (see [`super::MAX_TASKS`]).
+/// Explores the timed model of `m`, group by group ([`super::groups`]);
+/// `None` when it has too many tasks for one (see [`super::MAX_TASKS`]).
 pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis> {
-    let te = TimedEngine::new(m.clone())?;
+    if m.tasks.len() > super::MAX_TASKS {
+        return None;
+    }
+    let locks = Locks::new(m, 1);
+    let mut out = TimingAnalysis::default();
+    for group in groups(m, &locks) {
+        let te = TimedEngine::for_group(m.clone(), &group)?;
+        out.clocks = out.clocks.max(te.clock_count());
+        explore_group(&te, limits, &mut out);
+        out.groups += 1;
+        // A group at the state limit leaves the others worth exploring.
+        if matches!(out.stopped, Some(Stop::Time | Stop::Memory)) {
+            break;
+        }
+    }
+    out.overruns.sort_by_key(|o| o.task);
+    Some(out)
+}
+
+/// Explores one group and adds its findings.
+fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis) {
     let mut first: BTreeMap<usize, StateId> = BTreeMap::new();
-    let e = explore(&te, limits, |id, st: &TG3State| {
+    let e = explore(te, limits, |id, st: &TG3State| {
         if let Some(t) = st.violation {
             first.entry(usize::from(t)).or_insert(id);
         }
     });
-    let overruns = first
-        .iter()
-        .map(|(&task, &id)| {
-            let path = e.store.path(id);
-            let end = e.store_config(&te, id);
-            let last = TraceStep::new(Event::Violation, unfinished_text(&te, &end, task));
-            TaskOverrun {
-                task,
-                trace: timed_trace(&te, &path, last),
-            }
-        })
-        .collect();
-    Some(TimingAnalysis {
-        states: e.store.len() as u64,
-        transitions: e.transitions,
-        clocks: te.clock_count(),
-        stopped: e.stopped,
-        overruns,
-    })
+    out.overruns.extend(first.iter().map(|(&task, &id)| {
+        let path = e.store.path(id);
+        let end = e.store_config(te, id);
+        let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
+        TaskOverrun {
+            task,
+            trace: timed_trace(te, &path, last),
+        }
+    }));
+    out.states += e.store.len() as u64;
+    out.transitions += e.transitions;
+    out.stopped = out.stopped.or(e.stopped);
 }
 
 /// What the tick of task `t` finds unfinished in `st`.

@@ -37,6 +37,8 @@ pub struct Locks {
     task_bound: Vec<i64>,
     /// The largest duration of a control codel.
     pub ctl_bound: i64,
+    /// Per key: its task (`usize::MAX` for a control codel).
+    pub key_task: Vec<usize>,
 }
 
 impl Locks {
@@ -87,6 +89,7 @@ impl Locks {
             ctl_bound = ctl_bound.max(w);
             codels.push((None, usize::MAX, st));
         }
+        let key_task = codels.iter().map(|&(_, t, _)| t).collect();
         let excl = codels
             .iter()
             .map(|&(owner, task, st)| {
@@ -112,6 +115,7 @@ impl Locks {
             perm_base,
             ctl_base,
             ctl_bound,
+            key_task,
             upper,
             lower,
             excl,
@@ -167,6 +171,21 @@ impl Locks {
             self.upper[k],
             self.lower[k],
         )
+    }
+
+    /// The codels that codel `k` waits for.
+    pub fn waits_for(&self, k: usize) -> &[usize] {
+        &self.excl[k]
+    }
+
+    /// Number of keys.
+    pub fn len(&self) -> usize {
+        self.excl.len()
+    }
+
+    /// Whether there is no codel.
+    pub fn is_empty(&self) -> bool {
+        self.excl.is_empty()
     }
 
     /// Whether codel `k` waits while codel `j` runs.

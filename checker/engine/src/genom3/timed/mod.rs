@@ -29,6 +29,7 @@
 //! since its running codel began.
 
 pub mod analysis;
+pub mod groups;
 pub mod locks;
 mod steps;
 pub mod trace;
@@ -179,14 +180,27 @@ pub struct TimedEngine<'a> {
     tracked: Vec<u64>,
     /// Apply extrapolation (off to compute concrete traces).
     pub extrapolate: bool,
+    /// Per task: in the explored group (see [`groups`]).
+    pub in_group: Vec<bool>,
 }
 
 /// Most tasks a timed model handles (one bit each in a word).
 pub const MAX_TASKS: usize = 32;
 
 impl<'a> TimedEngine<'a> {
-    /// The timed model of `m`; `None` with more than [`MAX_TASKS`] tasks.
+    /// The timed model of the whole of `m`; `None` with more than
+    /// [`MAX_TASKS`] tasks.
     pub fn new(m: Machine<'a>) -> Option<Self> {
+        let all = groups::Group {
+            tasks: vec![true; m.tasks.len()],
+            acts: vec![true; m.activities.len()],
+            ctls: vec![true; m.controls.len()],
+        };
+        Self::for_group(m, &all)
+    }
+
+    /// The timed model of one group of `m`.
+    pub fn for_group(m: Machine<'a>, group: &groups::Group) -> Option<Self> {
         let n = m.tasks.len();
         if n > MAX_TASKS {
             return None;
@@ -237,11 +251,18 @@ impl<'a> TimedEngine<'a> {
             })
             .collect();
         let canon = canonical_calls(&m, &locks, &jobs, &tracked);
+        let e = Engine::part_tasks(
+            m,
+            group.acts.clone(),
+            group.ctls.clone(),
+            group.tasks.clone(),
+        );
         Some(TimedEngine {
+            in_group: group.tasks.clone(),
             canon,
             jobs,
             tracked,
-            e: Engine::new(m),
+            e,
             unit,
             period,
             delay,
@@ -435,7 +456,7 @@ impl<'a> TimedEngine<'a> {
     /// The invariants of a state, as `x ≤ c`.
     pub fn invariants(&self, st: &TG3State) -> Vec<(usize, i64)> {
         let mut out = Vec::new();
-        for t in 0..self.e.m.tasks.len() {
+        for t in (0..self.e.m.tasks.len()).filter(|&t| self.in_group[t]) {
             if let (Some(x), Some(p)) = (self.period_clock[t], self.period[t]) {
                 let first = st.ticked >> t & 1 == 0;
                 out.push((x, if first { self.delay[t] } else { p }));
@@ -466,6 +487,9 @@ impl<'a> TimedEngine<'a> {
         for t in 0..self.e.m.tasks.len() {
             if self.running(&st.g, t).is_none() {
                 st.zone.free(self.exec_clock[t]);
+            }
+            if let (false, Some(x)) = (self.in_group[t], self.period_clock[t]) {
+                st.zone.free(x);
             }
         }
         if !st.ctl.is_some_and(|c| c.running) {

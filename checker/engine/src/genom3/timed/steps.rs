@@ -36,7 +36,7 @@ impl TimedEngine<'_> {
         if st.ctl.is_some_and(|c| c.running) {
             out.extend([TG3Action::CtlEnd(true), TG3Action::CtlEnd(false)]);
         }
-        for t in 0..self.e.m.tasks.len() {
+        for t in (0..self.e.m.tasks.len()).filter(|&t| self.in_group[t]) {
             if self.period[t].is_some() {
                 out.push(TG3Action::Tick(t as u8));
             } else if self.activatable(st, t) {
