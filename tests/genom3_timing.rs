@@ -1,0 +1,129 @@
+//! GenoM3's timing, point by point (issue 13, points 1, 3, 4, 7 and 9): each
+//! fixture of `tests/fixtures/genom3/timing/` is checked with its WCET file
+//! through the whole pipeline; the `thread-overrun` verdicts of the timed
+//! GenoM3 engine differ from those of the LANGUAGE.md timed engine run on
+//! the same lowered model (the "naive" reading), and a paired fixture
+//! shows what removes the overrun.
+
+#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
+
+use std::path::{Path, PathBuf};
+
+use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
+use genom_checker::engine::Limits;
+use genom_checker::timed::analyse_timed;
+use genom_model::trace::Event;
+use genom_model::{Code, Severity};
+
+const DIR: &str = "tests/fixtures/genom3/timing";
+
+fn check_n(name: &str, instances: usize) -> CheckResult {
+    let path = Path::new(DIR).join(format!("{name}.gen"));
+    let inputs = Inputs {
+        wcet_file: Some(PathBuf::from(DIR).join(format!("{name}.wcet"))),
+        ..Inputs::default()
+    };
+    let options = CheckOptions::new().max_instances(instances);
+    check_path(&path, &inputs, &options).unwrap()
+}
+
+fn check(name: &str) -> CheckResult {
+    check_n(name, 1)
+}
+
+/// The tasks the check reports as overrunning, sorted.
+fn overrunning(r: &CheckResult) -> Vec<String> {
+    let mut v: Vec<String> = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::ThreadOverrun)
+        .map(|d| d.message.split('`').nth(1).unwrap_or_default().to_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The threads the LANGUAGE.md timed engine finds overrunning on the same
+/// lowered model.
+fn naive_overrunning(r: &CheckResult) -> Vec<String> {
+    let c = r.component.as_ref().expect("a component");
+    let (_, facts) = analyse_timed(c, Limits::default());
+    let mut v: Vec<String> = facts
+        .overruns
+        .iter()
+        .map(|o| c.threads[o.thread].name.name.clone())
+        .collect();
+    v.sort();
+    v
+}
+
+/// No error besides overruns, every overrun with a timed trace that ends
+/// with its violation one period after a tick of that task.
+fn assert_clean_traces(r: &CheckResult) {
+    for d in &r.diagnostics {
+        assert!(
+            d.severity != Severity::Error || d.code == Code::ThreadOverrun,
+            "{d:#?}"
+        );
+        if d.code != Code::ThreadOverrun {
+            continue;
+        }
+        let t = d.trace.as_ref().expect("a trace");
+        let last = t.steps.last().unwrap();
+        assert_eq!(last.event, Event::Violation);
+        assert!(t.steps.iter().all(|s| s.time_ns.is_some()), "{t:#?}");
+        let times: Vec<u64> = t.steps.iter().map(|s| s.time_ns.unwrap()).collect();
+        assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+    }
+}
+
+#[test]
+fn point_1_an_unpaused_chain_overruns_where_one_codel_per_period_does_not() {
+    let r = check("f1b_chain_overrun");
+    assert_eq!(overrunning(&r), ["t"]);
+    assert!(naive_overrunning(&r).is_empty());
+    assert_clean_traces(&r);
+    let paused = check("f1b_chain_paused");
+    assert!(overrunning(&paused).is_empty());
+}
+
+#[test]
+fn point_3_permanent_codels_take_their_share_of_the_period() {
+    let r = check("f3_permanent_lock");
+    assert_eq!(overrunning(&r), ["t", "u"]);
+    assert!(naive_overrunning(&r).is_empty());
+    assert_clean_traces(&r);
+}
+
+#[test]
+fn point_4_instances_of_one_activity_share_the_period() {
+    let one = check("f4_instances");
+    assert!(overrunning(&one).is_empty());
+    let two = check_n("f4_instances", 2);
+    assert_eq!(overrunning(&two), ["t"]);
+    assert_clean_traces(&two);
+    assert!(naive_overrunning(&two).is_empty());
+    let self_interrupting = check_n("f4_self_interrupt", 2);
+    assert!(overrunning(&self_interrupting).is_empty());
+}
+
+#[test]
+fn point_7_control_codels_hold_their_locks() {
+    let r = check("f7_control_lock");
+    assert_eq!(overrunning(&r), ["t"]);
+    assert_clean_traces(&r);
+    let free = check("f7_control_free");
+    assert!(overrunning(&free).is_empty());
+}
+
+#[test]
+fn point_9_locks_at_genom3_granularity() {
+    let readers = check("f9_granularity");
+    assert!(!overrunning(&readers).is_empty());
+    assert_clean_traces(&readers);
+    let writers = check("f9_writers");
+    assert!(overrunning(&writers).is_empty());
+    // The naive reading locks the whole ids for each writer and nothing for
+    // a port: the reverse.
+    assert!(!naive_overrunning(&writers).is_empty());
+}
