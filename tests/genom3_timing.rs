@@ -127,3 +127,25 @@ fn point_9_locks_at_genom3_granularity() {
     // a port: the reverse.
     assert!(!naive_overrunning(&writers).is_empty());
 }
+
+#[test]
+fn a_permanent_codel_without_wcet_is_named_by_missing_wcet() {
+    let r = check("f3_partial");
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::MissingWcet)
+        .expect("missing-wcet");
+    let labels: Vec<&str> = d.labels.iter().map(|l| l.message.as_str()).collect();
+    assert!(
+        labels
+            .iter()
+            .any(|l| l.contains("task `t`") && l.contains("main")),
+        "{labels:?}"
+    );
+    assert!(
+        d.help.as_deref().unwrap_or("").contains("thread `t`"),
+        "{d:#?}"
+    );
+    assert!(overrunning(&r).is_empty());
+}

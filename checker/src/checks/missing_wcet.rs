@@ -1,7 +1,7 @@
 //! `missing-wcet` (advice): codels without a WCET (`max-time`) are treated as
 //! taking no time, so timing properties that involve them are not proven.
 
-use genom_model::component::Component;
+use genom_model::component::{Component, ServiceId, ThreadId};
 use genom_model::{Code, Diagnostic};
 
 /// `genom-check explain missing-wcet`.
@@ -27,27 +27,19 @@ Give every codel a `max-time` measured on the target, with a margin."#;
 /// One advice for the component, when something timing-related depends on
 /// codels without WCET.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
-    let missing: Vec<_> = c.codels.values().filter(|k| k.wcet.is_none()).collect();
+    let missing = missing(c);
     let threads: Vec<String> = c
         .threads
-        .values()
-        .filter(|t| t.period.is_some())
-        .filter(|t| {
-            missing.iter().any(|k| {
-                c.services[k.service]
-                    .thread
-                    .is_some_and(|r| c.threads[r.id].name == t.name)
-            })
-        })
-        .map(|t| format!("`{}`", t.name.name))
+        .iter()
+        .filter(|(_, t)| t.period.is_some())
+        .filter(|(id, _)| missing.iter().any(|m| m.thread == Some(*id)))
+        .map(|(_, t)| format!("`{}`", t.name.name))
         .collect();
     let services: Vec<String> = c
         .services
-        .values()
-        .filter(|s| {
-            s.max_time.is_some() && missing.iter().any(|k| c.services[k.service].name == s.name)
-        })
-        .map(|s| format!("`{}`", s.name.name))
+        .iter()
+        .filter(|(id, s)| s.max_time.is_some() && missing.iter().any(|m| m.service == Some(*id)))
+        .map(|(_, s)| format!("`{}`", s.name.name))
         .collect();
     let Some(first) = missing
         .first()
@@ -62,13 +54,6 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     if !services.is_empty() {
         unproven.push(format!("the max-time of {}", services.join(", ")));
     }
-    let label = |k: &genom_model::component::Codel| {
-        format!(
-            "`{}::{}` has no WCET",
-            c.services[k.service].name.name, k.name.name
-        )
-    };
-    // GenoM3 has no WCET syntax: its WCETs come from a side file.
     let (written, remedy) = if c.genom3.is_some() {
         ("", "give every codel a WCET in a `--wcet` file")
     } else {
@@ -85,13 +70,57 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
             },
             if missing.len() == 1 { "is" } else { "are" }
         ),
-        first.name.span,
-        label(first),
+        first.span,
+        first.label.clone(),
     );
-    for k in missing.iter().skip(1).take(9) {
-        d = d.with_label(k.name.span, label(k));
+    for m in missing.iter().skip(1).take(9) {
+        d = d.with_label(m.span, m.label.clone());
     }
     vec![d.with_help(format!("left unproven: {}; {remedy}", unproven.join("; ")))]
+}
+
+/// A codel without WCET.
+struct Missing {
+    span: genom_model::span::Span,
+    label: String,
+    thread: Option<ThreadId>,
+    service: Option<ServiceId>,
+}
+
+/// The codels without WCET: the model's, then (GenoM3) the permanent
+/// codels of the tasks, which are not model codels.
+fn missing(c: &Component) -> Vec<Missing> {
+    let mut out: Vec<Missing> = c
+        .codels
+        .values()
+        .filter(|k| k.wcet.is_none())
+        .map(|k| Missing {
+            span: k.name.span,
+            label: format!(
+                "`{}::{}` has no WCET",
+                c.services[k.service].name.name, k.name.name
+            ),
+            thread: c.services[k.service].thread.map(|t| t.id),
+            service: Some(k.service),
+        })
+        .collect();
+    for task in c.genom3.iter().flat_map(|g| g.tasks.iter()) {
+        for f in task.codels.iter().filter(|f| f.wcet.is_none()) {
+            let states: Vec<&str> = f.states.iter().map(|s| s.name.as_str()).collect();
+            out.push(Missing {
+                span: f.span,
+                label: format!(
+                    "task `{}`'s codel `{}` ({}) has no WCET",
+                    c.threads[task.thread].name.name,
+                    f.function.name,
+                    states.join(", ")
+                ),
+                thread: Some(task.thread),
+                service: None,
+            });
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -286,7 +286,8 @@ impl<'a> TimedEngine<'a> {
         &self.e.m
     }
 
-    /// The initial state with `extra` more clocks (for traces).
+    /// The initial state with `extra` more clocks (for traces), time
+    /// passing from 0.
     pub fn start(&self, extra: usize) -> TG3State {
         let st = TG3State {
             g: self.e.initial(),
@@ -296,7 +297,7 @@ impl<'a> TimedEngine<'a> {
             ctl: None,
             zone: Dbm::zero(self.clock_count() + extra),
         };
-        self.finish(st)
+        self.let_time_pass(self.finish(st))
     }
 
     /// Whether task `t` runs at all yet (spawned in the boot order).

@@ -155,3 +155,21 @@ fn the_time_unit_divides_every_duration() {
     // 10 ms, 6 ms and the control codel's 5 ms: 1 ms.
     assert_eq!(te.unit, 1_000_000);
 }
+
+#[test]
+fn a_first_tick_after_a_delay_comes_and_an_async_codel_on_a_periodic_task_overruns() {
+    // Task `io` wakes first at 1 ms; its `async` codel has no upper bound.
+    let text = "component a {\n  task main { period 5 ms; };\n  task io { period 20 ms; delay 1 ms;\n    async codel<start> io_poll() yield pause::start, ether; };\n};\n";
+    let c = load_genom3_wcet(text, "io.start 1us\n");
+    let m = Machine::new(&c, 1).expect("GenoM3");
+    let a = analyse_timing(&m, Limits::default()).expect("few tasks");
+    assert_eq!(a.overruns.len(), 1);
+    let t = &a.overruns[0].trace;
+    let ticks: Vec<u64> = t
+        .steps
+        .iter()
+        .filter(|s| s.event == Event::WakeUp)
+        .filter_map(|s| s.time_ns)
+        .collect();
+    assert_eq!(ticks, [1_000_000, 21_000_000], "{t:#?}");
+}
