@@ -75,6 +75,7 @@
 
 mod claims;
 pub mod genom3;
+pub mod genom3_timed;
 mod requests;
 mod state;
 mod steps;

@@ -1,0 +1,484 @@
+//! An independent replay of the timed GenoM3 engine's `thread-overrun`
+//! traces against GenoM3's execution rules in time
+//! (`docs/genom3-semantics.md` sections 1, 2, 7 and 8).
+//!
+//! It shares no code with the timed engine it checks
+//! (`crate::genom3::timed`, `crate::genom3::steps`): it reads the component
+//! as [`Machine`] reads it (tasks, periods, delays, codel state machines
+//! with their yields, `pause::`, `async`, WCETs and data accesses, control
+//! codels) and the resolved [`Component`] (`interrupts`), and re-applies
+//! the rules on a plain state: per instance its status, state and whether
+//! it is due in its task's current sweep, paused, running or interrupted;
+//! per task its next tick and whether it sweeps again; the control
+//! thread's request; and every codel run as a time interval.
+//!
+//! Checked, step by step (steps numbered from 1; every step has an
+//! instant):
+//! - `component-start` first at 0, instants never decrease, `violation`
+//!   last, right after the violating tick;
+//! - ticks (`wake-up`, outcome `tick`): the first at the task's `delay`,
+//!   the next exactly one period later, none skipped (no step later than a
+//!   missed tick); a tick that is not the last finds its task's work done;
+//!   the last finds it really unfinished: a codel running for less than its
+//!   WCET (or `async`), or a due codel waiting for a lock whose holder runs
+//!   for less than its WCET;
+//! - activations (`wake-up`, outcome `activation`): an aperiodic task,
+//!   idle, with an instance to start or resume;
+//! - sweeps: a tick or activation starts the accepted instances and
+//!   resumes the paused ones; a task whose last codel yielded without
+//!   `pause::` sweeps again at once when it has nothing left due
+//!   (continuation sweeps start and resume nothing in a periodic task);
+//! - `codel-start`: a due instance at that state on an idle task;
+//!   `codel-end`: the task's running codel, after at most its WCET (at
+//!   least, `async`), a yield of that state (`pause::` included) or
+//!   `exception`; an interrupted instance goes to `stop` after it;
+//! - urgency: time never passes while an idle task has a due codel whose
+//!   locks are free;
+//! - control thread (`control`): `accept` (activities, functions, `kill`;
+//!   `pending` exactly when the new instance waits for the instances it
+//!   interrupts), `interrupt` (`abort_activity`), `request` then its
+//!   control codels that hold contended locks and take time (start, end
+//!   after at most the WCET, `ok` or `exception`), the request's effect
+//!   after the last one; one request at a time, once every task started;
+//! - locks (8.1-8.2): no codel begins while a codel of another thread that
+//!   it waits for runs (strictly overlapping intervals), where an FSM codel
+//!   waits for the conflicting codels of other tasks and of the control
+//!   thread except, for an activity's codel, those of a service that
+//!   interrupts its own; control codels wait for the conflicting FSM codels;
+//!   `async` codels take no lock.
+//!
+//! The engine explores tasks coupled by locks together: the tasks replayed
+//! are those the trace names (the others run elsewhere and never hold a
+//! lock these wait for). Instances of one activity at one state are told
+//! apart by their marks: a `codel-start` takes a due one.
+
+use std::collections::BTreeSet;
+
+use genom_model::component::{Component, ServiceId};
+use genom_model::trace::{Event, Trace};
+
+use crate::genom3::machine::{
+    Access, Base, ControlKind, FsmState, Machine, Owner, Role, Target,
+};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Status {
+    Delayed,
+    Ready,
+    Run,
+    Stop,
+}
+
+/// An instance (an activity's, or a task's permanent one).
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Inst {
+    owner: Owner,
+    status: Status,
+    state: u8,
+    /// Runs a codel in its task's current sweep, not begun yet.
+    due: bool,
+    /// Its last yield was `pause::`.
+    paused: bool,
+    /// Its codel runs (since that instant).
+    busy: Option<u64>,
+    /// Interrupted while running or due: to `stop` after that codel.
+    flagged: bool,
+}
+
+impl Inst {
+    fn new(owner: Owner, status: Status, state: u8) -> Inst {
+        Inst {
+            owner,
+            status,
+            state,
+            due: false,
+            paused: false,
+            busy: None,
+            flagged: false,
+        }
+    }
+
+    fn started(&self) -> bool {
+        matches!(self.status, Status::Run | Status::Stop)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    Boot(usize),
+    Run,
+    Drain,
+    PermStop(usize),
+    Stopped,
+    Failed,
+}
+
+/// A codel: an FSM state's, or a service's `i`-th control codel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Codel {
+    Fsm(Owner, u8),
+    Ctl(ServiceId, usize),
+}
+
+/// One codel run: its thread (`None`: control), instants, step.
+#[derive(Debug, Clone)]
+struct Interval {
+    thread: Option<usize>,
+    codel: Codel,
+    start: u64,
+    end: Option<u64>,
+    step: usize,
+}
+
+/// The request the control thread handles through its timed codels.
+#[derive(Debug, Clone)]
+struct Request {
+    service: ServiceId,
+    /// Index into its timed control codels of the next one.
+    next: usize,
+    /// The running one began then.
+    since: Option<u64>,
+}
+
+/// The replay's state.
+struct Sim<'m, 'c> {
+    m: &'m Machine<'c>,
+    /// Per task: replayed (named by the trace).
+    scope: Vec<bool>,
+    phase: Phase,
+    insts: Vec<Inst>,
+    done: BTreeSet<ServiceId>,
+    /// Per task: its next tick.
+    next_tick: Vec<Option<u64>>,
+    /// Per task: sweeps again once nothing is due.
+    cont: Vec<bool>,
+    ctl: Option<Request>,
+    runs: Vec<Interval>,
+    now: u64,
+}
+
+/// Replays an overrun trace of the timed GenoM3 engine on `c` (read with
+/// `--max-instances` `max_instances`); Err says which step (1-based) breaks
+/// which rule.
+pub fn replay_genom3_timed(
+    c: &Component,
+    max_instances: usize,
+    trace: &Trace,
+) -> Result<(), String> {
+    let m = Machine::new(c, max_instances).ok_or("not a GenoM3 component")?;
+    let steps = &trace.steps;
+    let n = steps.len();
+    if steps.first().map(|s| s.event) != Some(Event::ComponentStart) {
+        return Err("step 1: a trace starts with `component-start`".into());
+    }
+    if n < 3 || steps[n - 1].event != Event::Violation {
+        return Err(format!("step {n}: an overrun trace ends with `violation`"));
+    }
+    let tick = &steps[n - 2];
+    if tick.event != Event::WakeUp || tick.outcome.as_deref() != Some("tick") {
+        return Err(format!("step {}: the violation follows a tick", n - 1));
+    }
+    let scope = m
+        .tasks
+        .iter()
+        .map(|t| steps.iter().any(|s| s.thread.as_deref() == Some(&t.name)))
+        .collect();
+    let mut sim = Sim::new(&m, scope);
+    for (k, step) in steps.iter().enumerate().skip(1) {
+        let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
+        let time = step.time_ns.ok_or_else(|| at("the step has no instant".into()))?;
+        if time < sim.now {
+            return Err(at(format!("time goes back from {} ns", sim.now)));
+        }
+        if time > sim.now {
+            sim.urgent().map_err(at)?;
+        }
+        sim.missed(time).map_err(at)?;
+        sim.now = time;
+        if step.event == Event::Violation {
+            if k + 1 != n || step.thread.is_some() {
+                return Err(at("a violation is the last step and names no thread".into()));
+            }
+            continue;
+        }
+        sim.step(step, k, k + 2 == n).map_err(at)?;
+        sim.finish();
+    }
+    sim.locks()
+}
+
+impl<'m, 'c> Sim<'m, 'c> {
+    fn new(m: &'m Machine<'c>, scope: Vec<bool>) -> Self {
+        let mut insts = Vec::new();
+        for (t, task) in m.tasks.iter().enumerate() {
+            if let Some(s) = task.perm.as_ref().and_then(|f| f.start).filter(|_| scope[t]) {
+                insts.push(Inst::new(Owner::Task(t), Status::Run, s));
+            }
+        }
+        let next_tick = m
+            .tasks
+            .iter()
+            .map(|t| t.period_ns.map(|_| t.delay_ns))
+            .collect();
+        let mut sim = Sim {
+            m,
+            cont: vec![false; m.tasks.len()],
+            scope,
+            phase: Phase::Boot(0),
+            insts,
+            done: BTreeSet::new(),
+            next_tick,
+            ctl: None,
+            runs: Vec::new(),
+            now: 0,
+        };
+        sim.settle(false);
+        sim
+    }
+
+    fn task_of(&self, o: Owner) -> usize {
+        match o {
+            Owner::Activity(a) => self.m.activities[a].task,
+            Owner::Task(t) => t,
+        }
+    }
+
+    fn fsm_state(&self, o: Owner, s: u8) -> &'m FsmState {
+        &self.m.fsm(o).states[usize::from(s)]
+    }
+
+    fn spawned(&self, t: usize) -> bool {
+        !matches!(self.phase, Phase::Boot(b) if t > b)
+    }
+
+    fn task_named(&self, name: Option<&str>) -> Result<usize, String> {
+        let name = name.ok_or("the step names no thread")?;
+        let t = self.m.tasks.iter().position(|t| t.name == name);
+        t.ok_or_else(|| format!("there is no task `{name}`"))
+    }
+
+    fn service_named(&self, name: Option<&str>) -> Result<ServiceId, String> {
+        let name = name.ok_or("the step names no service")?;
+        let found = self.m.c.services.iter().find(|(_, s)| s.name.name == name);
+        found
+            .map(|(sid, _)| sid)
+            .ok_or_else(|| format!("there is no service `{name}`"))
+    }
+
+    fn activity_of(&self, sid: ServiceId) -> Option<usize> {
+        match self.m.role.get(&sid) {
+            Some(Role::Activity(a)) => Some(*a),
+            _ => None,
+        }
+    }
+
+    /// The activities service `sid` interrupts (all for `kill`).
+    fn targets(&self, sid: ServiceId) -> Vec<usize> {
+        let kill = self.kind(sid) == Some(ControlKind::Kill);
+        let stops = &self.m.c.services[sid].stops;
+        (0..self.m.activities.len())
+            .filter(|&a| kill || stops.iter().any(|r| r.id == self.m.activities[a].service))
+            .collect()
+    }
+
+    fn kind(&self, sid: ServiceId) -> Option<ControlKind> {
+        match self.m.role.get(&sid) {
+            Some(Role::Control(k)) => Some(self.m.controls[*k].kind),
+            _ => None,
+        }
+    }
+
+    /// The running instance of task `t`.
+    fn running(&self, t: usize) -> Option<usize> {
+        let on = |i: &Inst| self.task_of(i.owner) == t && i.busy.is_some();
+        self.insts.iter().position(on)
+    }
+
+    /// Task `t` has work left in its wake-up.
+    fn unfinished(&self, t: usize) -> bool {
+        self.cont[t]
+            || self
+                .insts
+                .iter()
+                .any(|i| self.task_of(i.owner) == t && (i.due || i.busy.is_some()))
+    }
+
+    /// `excludes(k, j)`: codel `k` waits while codel `j` runs on another
+    /// thread (8.1-8.2, `async` codels take no lock).
+    fn waits(&self, k: Codel, j: Codel) -> bool {
+        let def = |c: Codel| match c {
+            Codel::Fsm(o, s) => Some(self.fsm_state(o, s)),
+            Codel::Ctl(sid, i) => self.m.control_codels.get(&sid)?.get(i),
+        };
+        let (Some(a), Some(b)) = (def(k), def(j)) else {
+            return false;
+        };
+        if a.is_async || b.is_async || !clash(&a.access, &b.access) {
+            return false;
+        }
+        match (k, j) {
+            (Codel::Ctl(..), Codel::Ctl(..)) => false,
+            (Codel::Fsm(Owner::Activity(x), _), Codel::Fsm(Owner::Activity(y), _)) => {
+                let mine = self.m.activities[x].service;
+                let other = self.m.activities[y].service;
+                !self.m.c.services[other].stops.iter().any(|r| r.id == mine)
+            }
+            _ => true,
+        }
+    }
+
+    /// The codels running now on threads other than `thread`, with their
+    /// start.
+    fn holders(&self, thread: Option<usize>) -> Vec<(Codel, u64)> {
+        let mut out: Vec<(Codel, u64)> = self
+            .insts
+            .iter()
+            .filter(|i| Some(self.task_of(i.owner)) != thread)
+            .filter_map(|i| Some((Codel::Fsm(i.owner, i.state), i.busy?)))
+            .collect();
+        if let (Some(r), Some(_)) = (&self.ctl, thread) {
+            if let (Some(since), Some(&i)) = (r.since, self.timed_codels(r.service).get(r.next))
+            {
+                out.push((Codel::Ctl(r.service, i), since));
+            }
+        }
+        out
+    }
+
+    /// Whether a due instance of task `t` may begin now (its locks free).
+    fn free(&self, t: usize, i: &Inst) -> bool {
+        let k = Codel::Fsm(i.owner, i.state);
+        self.holders(Some(t)).iter().all(|&(j, _)| !self.waits(k, j))
+    }
+
+    /// The control codels of `sid` shown in traces: those that take time
+    /// and contend a lock with some task's codel (the others run in no
+    /// time and change nothing a task sees).
+    fn timed_codels(&self, sid: ServiceId) -> Vec<usize> {
+        let Some(v) = self.m.control_codels.get(&sid) else {
+            return Vec::new();
+        };
+        let fsm_codels: Vec<Codel> = (0..self.m.activities.len())
+            .map(Owner::Activity)
+            .chain((0..self.m.tasks.len()).map(Owner::Task))
+            .flat_map(|o| (0..self.m.fsm(o).states.len()).map(move |s| (o, s)))
+            .filter_map(|(o, s)| Some(Codel::Fsm(o, u8::try_from(s).ok()?)))
+            .collect();
+        (0..v.len())
+            .filter(|&i| {
+                let k = Codel::Ctl(sid, i);
+                v[i].wcet_ns.is_some_and(|w| w > 0)
+                    && fsm_codels
+                        .iter()
+                        .any(|&j| self.waits(k, j) || self.waits(j, k))
+            })
+            .collect()
+    }
+
+    /// No step is later than a tick not taken.
+    fn missed(&self, time: u64) -> Result<(), String> {
+        for (t, next) in self.next_tick.iter().enumerate() {
+            if let (Some(at), true) = (*next, self.scope[t]) {
+                if time > at {
+                    let name = &self.m.tasks[t].name;
+                    return Err(format!("task `{name}` missed its tick at {at} ns"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Time may pass: no idle task has a due codel whose locks are free.
+    fn urgent(&self) -> Result<(), String> {
+        for t in (0..self.m.tasks.len()).filter(|&t| self.spawned(t)) {
+            if self.running(t).is_some() {
+                continue;
+            }
+            let due = |i: &&Inst| self.task_of(i.owner) == t && i.due && self.free(t, i);
+            if let Some(i) = self.insts.iter().find(due) {
+                return Err(format!(
+                    "time passes while task `{}` may begin state `{}` (its locks are free at {} ns)",
+                    self.m.tasks[t].name,
+                    self.fsm_state(i.owner, i.state).name,
+                    self.now
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every codel that began while a codel of another thread it waits for
+    /// ran (strictly overlapping intervals).
+    fn locks(&self) -> Result<(), String> {
+        let end = |r: &Interval| r.end.unwrap_or(self.now);
+        for (x, k) in self.runs.iter().enumerate() {
+            for j in &self.runs[..x] {
+                if j.thread == k.thread || k.start.max(j.start) >= end(k).min(end(j)) {
+                    continue;
+                }
+                if self.waits(k.codel, j.codel) {
+                    return Err(format!(
+                        "step {}: the codel begins at {} ns while the codel begun at step {} (which it waits for) runs until {} ns",
+                        k.step + 1,
+                        k.start,
+                        j.step + 1,
+                        end(j)
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// GenoM3's `param_mutex` (8.1): same port or remote whatever the
+/// directions; ids member paths equal on their common prefix, one writing.
+fn clash(a: &[Access], b: &[Access]) -> bool {
+    a.iter().any(|x| {
+        b.iter().any(|y| match (&x.base, &y.base) {
+            (Base::Port(p), Base::Port(q)) | (Base::Remote(p), Base::Remote(q)) => p == q,
+            (Base::Ids, Base::Ids) => {
+                let n = x.path.len().min(y.path.len());
+                (x.write || y.write) && x.path[..n] == y.path[..n]
+            }
+            _ => false,
+        })
+    })
+}
+
+/// What a codel's outcome names.
+enum Yield {
+    To(u8, bool),
+    Ether,
+    Exception,
+}
+
+/// Outcome `text` of `def`'s codel in `fsm`.
+fn parse_yield(m: &Machine<'_>, o: Owner, def: &FsmState, text: &str) -> Result<Yield, String> {
+    if text == "exception" {
+        return Ok(Yield::Exception);
+    }
+    let fsm = m.fsm(o);
+    for y in &def.yields {
+        let (name, y) = match *y {
+            Target::Ether => ("ether".to_owned(), Yield::Ether),
+            Target::State { state, pause } => {
+                let n = &fsm.states[usize::from(state)].name;
+                let name = if pause { format!("pause::{n}") } else { n.clone() };
+                (name, Yield::To(state, pause))
+            }
+        };
+        if name == text {
+            return Ok(y);
+        }
+    }
+    Err(format!(
+        "the codel of state `{}` does not yield `{text}`",
+        def.name
+    ))
+}
+
+mod steps;
+
+#[cfg(test)]
+mod tests;
