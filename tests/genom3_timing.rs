@@ -2,8 +2,9 @@
 //! fixture of `tests/fixtures/genom3/timing/` is checked with its WCET file
 //! through the whole pipeline; the `thread-overrun` verdicts of the timed
 //! GenoM3 engine differ from those of the LANGUAGE.md timed engine run on
-//! the same lowered model (the "naive" reading), and a paired fixture
-//! shows what removes the overrun.
+//! the same lowered model (the "naive" reading), a paired fixture shows
+//! what removes the overrun, and every trace is replayed by the independent
+//! replay (`genom_checker::replay::genom3_timed`).
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
@@ -11,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_checker::engine::Limits;
+use genom_checker::replay::genom3_timed::replay_genom3_timed;
 use genom_checker::timed::analyse_timed;
 use genom_model::trace::Event;
 use genom_model::{Code, Severity};
@@ -58,8 +60,13 @@ fn naive_overrunning(r: &CheckResult) -> Vec<String> {
 }
 
 /// No error besides overruns, every overrun with a timed trace that ends
-/// with its violation one period after a tick of that task.
+/// with its violation and that the independent replay accepts.
 fn assert_clean_traces(r: &CheckResult) {
+    assert_traces_n(r, 1);
+}
+
+fn assert_traces_n(r: &CheckResult, instances: usize) {
+    let c = r.component.as_ref().expect("a component");
     for d in &r.diagnostics {
         assert!(
             d.severity != Severity::Error || d.code == Code::ThreadOverrun,
@@ -74,6 +81,7 @@ fn assert_clean_traces(r: &CheckResult) {
         assert!(t.steps.iter().all(|s| s.time_ns.is_some()), "{t:#?}");
         let times: Vec<u64> = t.steps.iter().map(|s| s.time_ns.unwrap()).collect();
         assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+        replay_genom3_timed(c, instances, t).unwrap_or_else(|e| panic!("{e}\n{t:#?}"));
     }
 }
 
@@ -101,7 +109,7 @@ fn point_4_instances_of_one_activity_share_the_period() {
     assert!(overrunning(&one).is_empty());
     let two = check_n("f4_instances", 2);
     assert_eq!(overrunning(&two), ["t"]);
-    assert_clean_traces(&two);
+    assert_traces_n(&two, 2);
     assert!(naive_overrunning(&two).is_empty());
     let self_interrupting = check_n("f4_self_interrupt", 2);
     assert!(overrunning(&self_interrupting).is_empty());
@@ -148,4 +156,37 @@ fn a_permanent_codel_without_wcet_is_named_by_missing_wcet() {
         "{d:#?}"
     );
     assert!(overrunning(&r).is_empty());
+}
+
+/// A real component (when the corpus is on this machine): `uavatt.gen` with
+/// its WCET file overruns its 1 kHz task while the `log` function's 2 ms
+/// codel holds the `log` member that `control` needs; the trace replays.
+#[test]
+fn uavatt_overruns_behind_the_log_function_and_the_trace_replays() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/genom3");
+    let file = root.join("uavatt-genom3/uavatt.gen");
+    if !file.exists() {
+        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", root.display());
+        return;
+    }
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/uavatt.wcet")),
+        ..Inputs::default()
+    };
+    let r = check_path(&file, &inputs, &CheckOptions::new()).unwrap();
+    assert_eq!(overrunning(&r), ["main"]);
+    assert_clean_traces(&r);
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun)
+        .unwrap();
+    let t = d.trace.as_ref().unwrap();
+    assert!(
+        t.steps
+            .iter()
+            .any(|s| s.thread.as_deref() == Some("control") && s.service.as_deref() == Some("log")),
+        "{t:#?}"
+    );
 }

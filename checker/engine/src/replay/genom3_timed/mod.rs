@@ -57,9 +57,7 @@ use std::collections::BTreeSet;
 use genom_model::component::{Component, ServiceId};
 use genom_model::trace::{Event, Trace};
 
-use crate::genom3::machine::{
-    Access, Base, ControlKind, FsmState, Machine, Owner, Role, Target,
-};
+use crate::genom3::machine::{Access, Base, ControlKind, FsmState, Machine, Owner, Role, Target};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Status {
@@ -186,7 +184,9 @@ pub fn replay_genom3_timed(
     let mut sim = Sim::new(&m, scope);
     for (k, step) in steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
-        let time = step.time_ns.ok_or_else(|| at("the step has no instant".into()))?;
+        let time = step
+            .time_ns
+            .ok_or_else(|| at("the step has no instant".into()))?;
         if time < sim.now {
             return Err(at(format!("time goes back from {} ns", sim.now)));
         }
@@ -211,7 +211,12 @@ impl<'m, 'c> Sim<'m, 'c> {
     fn new(m: &'m Machine<'c>, scope: Vec<bool>) -> Self {
         let mut insts = Vec::new();
         for (t, task) in m.tasks.iter().enumerate() {
-            if let Some(s) = task.perm.as_ref().and_then(|f| f.start).filter(|_| scope[t]) {
+            if let Some(s) = task
+                .perm
+                .as_ref()
+                .and_then(|f| f.start)
+                .filter(|_| scope[t])
+            {
                 insts.push(Inst::new(Owner::Task(t), Status::Run, s));
             }
         }
@@ -337,8 +342,7 @@ impl<'m, 'c> Sim<'m, 'c> {
             .filter_map(|i| Some((Codel::Fsm(i.owner, i.state), i.busy?)))
             .collect();
         if let (Some(r), Some(_)) = (&self.ctl, thread) {
-            if let (Some(since), Some(&i)) = (r.since, self.timed_codels(r.service).get(r.next))
-            {
+            if let (Some(since), Some(&i)) = (r.since, self.timed_codels(r.service).get(r.next)) {
                 out.push((Codel::Ctl(r.service, i), since));
             }
         }
@@ -348,7 +352,9 @@ impl<'m, 'c> Sim<'m, 'c> {
     /// Whether a due instance of task `t` may begin now (its locks free).
     fn free(&self, t: usize, i: &Inst) -> bool {
         let k = Codel::Fsm(i.owner, i.state);
-        self.holders(Some(t)).iter().all(|&(j, _)| !self.waits(k, j))
+        self.holders(Some(t))
+            .iter()
+            .all(|&(j, _)| !self.waits(k, j))
     }
 
     /// The control codels of `sid` shown in traces: those that take time
@@ -464,7 +470,11 @@ fn parse_yield(m: &Machine<'_>, o: Owner, def: &FsmState, text: &str) -> Result<
             Target::Ether => ("ether".to_owned(), Yield::Ether),
             Target::State { state, pause } => {
                 let n = &fsm.states[usize::from(state)].name;
-                let name = if pause { format!("pause::{n}") } else { n.clone() };
+                let name = if pause {
+                    format!("pause::{n}")
+                } else {
+                    n.clone()
+                };
                 (name, Yield::To(state, pause))
             }
         };

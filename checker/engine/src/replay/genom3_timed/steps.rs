@@ -226,10 +226,14 @@ impl Sim<'_, '_> {
         let took = self.now - i.busy.unwrap_or(self.now);
         let w = def.wcet_ns.unwrap_or(0);
         if def.is_async && took < w {
-            return Err(format!("`async` codel took {took} ns, less than its {w} ns"));
+            return Err(format!(
+                "`async` codel took {took} ns, less than its {w} ns"
+            ));
         }
         if !def.is_async && took > w {
-            return Err(format!("the codel took {took} ns, more than its WCET {w} ns"));
+            return Err(format!(
+                "the codel took {took} ns, more than its WCET {w} ns"
+            ));
         }
         if let Some(r) = self.runs.iter_mut().rev().find(|r| r.thread == Some(t)) {
             r.end = Some(self.now);
@@ -237,8 +241,8 @@ impl Sim<'_, '_> {
         let text = s.outcome.as_deref().ok_or("the step has no outcome")?;
         let y = parse_yield(self.m, i.owner, def, text)?;
         let before = self.insts.len();
-        let booting = matches!(self.phase, Phase::Boot(b) if b == t)
-            && matches!(i.owner, Owner::Task(_));
+        let booting =
+            matches!(self.phase, Phase::Boot(b) if b == t) && matches!(i.owner, Owner::Task(_));
         match y {
             Yield::To(state, pause) => {
                 self.cont[t] |= !pause;
@@ -286,7 +290,9 @@ impl Sim<'_, '_> {
         }
         let after = self.m.after.get(&sid).into_iter().flatten();
         if after.clone().any(|x| !self.done.contains(x)) {
-            return Err(format!("`{name}` is `after` a service that never completed"));
+            return Err(format!(
+                "`{name}` is `after` a service that never completed"
+            ));
         }
         let before = self.m.before.get(&sid).into_iter().flatten();
         if before.clone().any(|x| self.done.contains(x)) {
@@ -316,7 +322,10 @@ impl Sim<'_, '_> {
     }
 
     fn ctl_start(&mut self, s: &TraceStep, k: usize) -> Result<(), String> {
-        let r = self.ctl.clone().ok_or("the control thread handles no request")?;
+        let r = self
+            .ctl
+            .clone()
+            .ok_or("the control thread handles no request")?;
         let codels = self.timed_codels(r.service);
         let i = *codels.get(r.next).ok_or("the request has no codel left")?;
         let name = &self.m.control_codels[&r.service][i].name;
@@ -338,7 +347,10 @@ impl Sim<'_, '_> {
     }
 
     fn ctl_end(&mut self, s: &TraceStep) -> Result<(), String> {
-        let r = self.ctl.clone().ok_or("the control thread handles no request")?;
+        let r = self
+            .ctl
+            .clone()
+            .ok_or("the control thread handles no request")?;
         let since = r.since.ok_or("the control thread runs no codel")?;
         let codels = self.timed_codels(r.service);
         let i = codels.get(r.next).copied().unwrap_or_default();
@@ -349,7 +361,9 @@ impl Sim<'_, '_> {
         let w = def.wcet_ns.unwrap_or(0);
         if self.now - since > w {
             let took = self.now - since;
-            return Err(format!("the control codel took {took} ns, more than its WCET {w} ns"));
+            return Err(format!(
+                "the control codel took {took} ns, more than its WCET {w} ns"
+            ));
         }
         if let Some(x) = self.runs.iter_mut().rev().find(|x| x.thread.is_none()) {
             x.end = Some(self.now);
@@ -383,7 +397,9 @@ impl Sim<'_, '_> {
         match (s.outcome.as_deref(), pending) {
             (None, false) | (Some("pending"), true) => Ok(()),
             (Some("pending"), false) => Err("the new instance does not wait: not pending".into()),
-            (None, true) => Err("the new instance waits for the ones it interrupts: `pending`".into()),
+            (None, true) => {
+                Err("the new instance waits for the ones it interrupts: `pending`".into())
+            }
             (Some(o), _) => Err(format!("an accepted request has no outcome `{o}`")),
         }
     }
@@ -420,7 +436,11 @@ impl Sim<'_, '_> {
 
     /// `abort_activity` on one instance (`codel`: its state if started).
     fn abort(&mut self, s: &TraceStep) -> Result<(), String> {
-        let k = self.m.controls.iter().find(|k| k.kind == ControlKind::Abort);
+        let k = self
+            .m
+            .controls
+            .iter()
+            .find(|k| k.kind == ControlKind::Abort);
         let k = k.ok_or("there is no `abort_activity`")?.service;
         self.admissible(k)?;
         let sid = self.service_named(s.service.as_deref())?;
@@ -473,9 +493,9 @@ impl Sim<'_, '_> {
                 self.insts.push(i);
             }
         }
-        self.insts.iter().any(|i| {
-            i.owner == Owner::Activity(a) && (i.status == Status::Stop || i.flagged)
-        })
+        self.insts
+            .iter()
+            .any(|i| i.owner == Owner::Activity(a) && (i.status == Status::Stop || i.flagged))
     }
 
     /// What follows at once: boot progress, pending interrupters

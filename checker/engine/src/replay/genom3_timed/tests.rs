@@ -17,7 +17,10 @@ use crate::testing::load_genom3_wcet;
 const MS: u64 = 1_000_000;
 
 fn fixture(name: &str) -> Component {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/fixtures/genom3/timing/");
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/genom3/timing/"
+    );
     let path = PathBuf::from(dir).join(name);
     let text = std::fs::read_to_string(path.with_extension("gen")).unwrap();
     let wcet = std::fs::read_to_string(path.with_extension("wcet")).unwrap();
@@ -36,7 +39,10 @@ fn overruns(c: &Component, n: usize) -> Vec<(String, Trace)> {
 }
 
 fn fixture_names() -> Vec<String> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/fixtures/genom3/timing/");
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/genom3/timing/"
+    );
     let mut out: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -69,7 +75,10 @@ fn every_fixture_overrun_replays() {
 }
 
 fn demo() -> Component {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../parser/genom3/tests/fixtures/valid/");
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../parser/genom3/tests/fixtures/valid/"
+    );
     let path = Path::new(dir).join("demo.gen");
     let text = std::fs::read_to_string(&path).unwrap();
     let wcet = std::fs::read_to_string(path.with_extension("wcet")).unwrap();
@@ -101,7 +110,13 @@ fn the_demo_component_overruns_replay() {
 }
 
 /// A step on `thread` at `ms` milliseconds.
-fn at(event: Event, ms: u64, thread: &str, codel: Option<&str>, outcome: Option<&str>) -> TraceStep {
+fn at(
+    event: Event,
+    ms: u64,
+    thread: &str,
+    codel: Option<&str>,
+    outcome: Option<&str>,
+) -> TraceStep {
     let mut s = TraceStep::new(event, "");
     s.time_ns = Some(ms * MS);
     s.thread = Some(thread.to_owned());
@@ -122,8 +137,10 @@ fn the_demo_io_task_overruns_in_its_async_codel() {
     start.time_ns = Some(0);
     t.steps.push(start);
     t.steps.push(at(Event::WakeUp, 1, "io", None, Some("tick")));
-    t.steps.push(at(Event::CodelStart, 1, "io", Some("start"), None));
-    t.steps.push(at(Event::WakeUp, 21, "io", None, Some("tick")));
+    t.steps
+        .push(at(Event::CodelStart, 1, "io", Some("start"), None));
+    t.steps
+        .push(at(Event::WakeUp, 21, "io", None, Some("tick")));
     let mut v = TraceStep::new(Event::Violation, "");
     v.time_ns = Some(21 * MS);
     t.steps.push(v.clone());
@@ -243,5 +260,10 @@ fn idling_with_a_free_due_codel_is_rejected() {
     let (c, mut t) = trace_of("f1b_chain_overrun", 1, "t");
     let start = find(&t, Event::CodelStart, "t", Some("exec"));
     t.steps[start].time_ns = Some(7 * MS);
-    rejected(&c, 1, &t, "time passes while task `t` may begin state `exec`");
+    rejected(
+        &c,
+        1,
+        &t,
+        "time passes while task `t` may begin state `exec`",
+    );
 }
