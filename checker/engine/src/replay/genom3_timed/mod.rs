@@ -176,11 +176,12 @@ pub fn replay_genom3_timed(
     if tick.event != Event::WakeUp || tick.outcome.as_deref() != Some("tick") {
         return Err(format!("step {}: the violation follows a tick", n - 1));
     }
-    let scope = m
+    let named = m
         .tasks
         .iter()
         .map(|t| steps.iter().any(|s| s.thread.as_deref() == Some(&t.name)))
         .collect();
+    let scope = Sim::new(&m, named).closure();
     let mut sim = Sim::new(&m, scope);
     for (k, step) in steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
@@ -364,11 +365,8 @@ impl<'m, 'c> Sim<'m, 'c> {
         let Some(v) = self.m.control_codels.get(&sid) else {
             return Vec::new();
         };
-        let fsm_codels: Vec<Codel> = (0..self.m.activities.len())
-            .map(Owner::Activity)
-            .chain((0..self.m.tasks.len()).map(Owner::Task))
-            .flat_map(|o| (0..self.m.fsm(o).states.len()).map(move |s| (o, s)))
-            .filter_map(|(o, s)| Some(Codel::Fsm(o, u8::try_from(s).ok()?)))
+        let fsm_codels: Vec<Codel> = (0..self.m.tasks.len())
+            .flat_map(|t| self.codels_of(t))
             .collect();
         (0..v.len())
             .filter(|&i| {
@@ -379,6 +377,41 @@ impl<'m, 'c> Sim<'m, 'c> {
                         .any(|&j| self.waits(k, j) || self.waits(j, k))
             })
             .collect()
+    }
+
+    /// The FSM codels of task `t`.
+    fn codels_of(&self, t: usize) -> Vec<Codel> {
+        let acts = (0..self.m.activities.len()).filter(|&a| self.m.activities[a].task == t);
+        acts.map(Owner::Activity)
+            .chain([Owner::Task(t)])
+            .flat_map(|o| (0..self.m.fsm(o).states.len()).map(move |s| (o, s)))
+            .filter_map(|(o, s)| Some(Codel::Fsm(o, u8::try_from(s).ok()?)))
+            .collect()
+    }
+
+    /// The scope with every task whose codels wait for, or make wait, a
+    /// codel of a task in it (the engine explores those together).
+    fn closure(&self) -> Vec<bool> {
+        let mut scope = self.scope.clone();
+        let codels: Vec<Vec<Codel>> = (0..scope.len()).map(|t| self.codels_of(t)).collect();
+        let coupled = |t: usize, u: usize| {
+            codels[t].iter().any(|&k| {
+                codels[u]
+                    .iter()
+                    .any(|&j| self.waits(k, j) || self.waits(j, k))
+            })
+        };
+        let mut grown = true;
+        while grown {
+            grown = false;
+            for u in 0..scope.len() {
+                if !scope[u] && (0..scope.len()).any(|t| t != u && scope[t] && coupled(t, u)) {
+                    scope[u] = true;
+                    grown = true;
+                }
+            }
+        }
+        scope
     }
 
     /// No step is later than a tick not taken.
@@ -410,7 +443,26 @@ impl<'m, 'c> Sim<'m, 'c> {
                 ));
             }
         }
-        Ok(())
+        let Some(r) = self.ctl.as_ref().filter(|r| r.since.is_none()) else {
+            return Ok(());
+        };
+        let Some(&i) = self.timed_codels(r.service).get(r.next) else {
+            return Ok(());
+        };
+        let k = Codel::Ctl(r.service, i);
+        let held = self.holders(None).iter().any(|&(j, _)| self.waits(k, j));
+        // A task waiting for a lock took its ticket first (8.3).
+        let queued = self.insts.iter().any(|x| {
+            let j = Codel::Fsm(x.owner, x.state);
+            x.due && self.running(self.task_of(x.owner)).is_none() && (self.waits(k, j) || self.waits(j, k))
+        });
+        if held || queued {
+            return Ok(());
+        }
+        Err(format!(
+            "time passes while the control thread may begin `{}` (its locks are free at {} ns)",
+            self.m.control_codels[&r.service][i].name, self.now
+        ))
     }
 
     /// Every codel that began while a codel of another thread it waits for

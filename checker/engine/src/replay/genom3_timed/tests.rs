@@ -143,7 +143,7 @@ fn the_demo_io_task_overruns_in_its_async_codel() {
         .push(at(Event::WakeUp, 21, "io", None, Some("tick")));
     let mut v = TraceStep::new(Event::Violation, "");
     v.time_ns = Some(21 * MS);
-    t.steps.push(v.clone());
+    t.steps.push(v);
     replay_genom3_timed(&c, 1, &t).unwrap();
     // Its first tick is at its delay, not at 0.
     for s in &mut t.steps[1..] {
@@ -265,5 +265,19 @@ fn idling_with_a_free_due_codel_is_rejected() {
         1,
         &t,
         "time passes while task `t` may begin state `exec`",
+    );
+}
+
+#[test]
+fn a_control_thread_idling_with_its_locks_free_is_rejected() {
+    // `set_speed`'s request taken at 5 ms, its codel begun only at 10 ms.
+    let (c, mut t) = trace_of("f7_control_lock", 1, "t");
+    let k = t.steps.iter().position(|s| s.event == Event::Request).unwrap();
+    t.steps[k].time_ns = Some(5 * MS);
+    rejected(
+        &c,
+        1,
+        &t,
+        "time passes while the control thread may begin `codel`",
     );
 }
