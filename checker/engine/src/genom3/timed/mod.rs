@@ -103,6 +103,9 @@ pub struct TG3State {
     pub violation: Option<u8>,
     /// The request the control thread handles, if it runs control codels.
     pub ctl: Option<Ctl>,
+    /// Per task (bit): it has waited for a lock (time passed while it was
+    /// idle with a due codel); its ticket comes before later ones (8.3).
+    pub waiting: u64,
     /// The clock zone.
     pub zone: Dbm,
 }
@@ -295,6 +298,7 @@ impl<'a> TimedEngine<'a> {
             ticked: 0,
             violation: None,
             ctl: None,
+            waiting: 0,
             zone: Dbm::zero(self.clock_count() + extra),
         };
         self.let_time_pass(self.finish(st))
@@ -347,6 +351,20 @@ impl<'a> TimedEngine<'a> {
         self.holders(st, Some(t))
             .iter()
             .all(|&(j, _, _)| !self.locks.excludes(k, j))
+            && !self.queued_behind(st, t, k)
+    }
+
+    /// Another task has waited for a lock with a due codel that conflicts
+    /// with codel `k` of task `t`: its ticket is older (GenoM3's FIFO).
+    fn queued_behind(&self, st: &TG3State, t: usize, k: usize) -> bool {
+        (0..self.e.m.tasks.len())
+            .filter(|&u| u != t && st.waiting >> u & 1 == 1)
+            .any(|u| {
+                self.instances(&st.g, u).iter().any(|&(who, i)| {
+                    let j = self.locks.key(who.owner(), i.state);
+                    i.has(mark::DUE) && (self.locks.excludes(j, k) || self.locks.excludes(k, j))
+                })
+            })
     }
 
     /// The running codels (key, clock, WCET) that a codel of task `except`
@@ -481,6 +499,15 @@ impl<'a> TimedEngine<'a> {
     pub fn let_time_pass(&self, mut st: TG3State) -> TG3State {
         if st.violation.is_none() && !self.urgent(&st) {
             st.zone.up();
+            for t in 0..self.e.m.tasks.len() {
+                let due = self
+                    .instances(&st.g, t)
+                    .iter()
+                    .any(|(_, i)| i.has(mark::DUE));
+                if due && self.running(&st.g, t).is_none() {
+                    st.waiting |= 1 << t;
+                }
+            }
         }
         for (x, c) in self.invariants(&st) {
             st.zone.upper(x, c);
@@ -569,7 +596,7 @@ impl Model for TimedEngine<'_> {
     }
 
     fn width(&self) -> usize {
-        self.e.width() + 3
+        self.e.width() + 4
     }
 
     fn init_states(&self) -> Vec<TG3State> {
@@ -595,6 +622,7 @@ impl Model for TimedEngine<'_> {
         out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
         out.push(v);
         out.push(st.ctl.map_or(0, Ctl::pack));
+        out.push(st.waiting);
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
@@ -603,12 +631,14 @@ impl Model for TimedEngine<'_> {
         let bits = w.get(k).copied().unwrap_or(0);
         let v = w.get(k + 1).copied().unwrap_or(0);
         let ctl = w.get(k + 2).copied().and_then(Ctl::unpack);
+        let waiting = w.get(k + 3).copied().unwrap_or(0);
         TG3State {
             g,
             cont: bits & 0xffff_ffff,
             ticked: bits >> 32,
             violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
             ctl,
+            waiting,
             zone: zone.clone(),
         }
     }

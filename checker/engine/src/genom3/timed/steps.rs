@@ -107,6 +107,7 @@ impl TimedEngine<'_> {
                 };
                 replace(&mut n.g, who, v, Some(busy));
                 n.zone.reset(self.exec_clock[t]);
+                n.waiting &= !(1 << t);
             }
             TG3Action::End(who, v, o) => {
                 let i = Inst::unpack(v)?;

@@ -454,7 +454,9 @@ impl<'m, 'c> Sim<'m, 'c> {
         // A task waiting for a lock took its ticket first (8.3).
         let queued = self.insts.iter().any(|x| {
             let j = Codel::Fsm(x.owner, x.state);
-            x.due && self.running(self.task_of(x.owner)).is_none() && (self.waits(k, j) || self.waits(j, k))
+            x.due
+                && self.running(self.task_of(x.owner)).is_none()
+                && (self.waits(k, j) || self.waits(j, k))
         });
         if held || queued {
             return Ok(());

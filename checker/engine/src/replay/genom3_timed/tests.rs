@@ -272,7 +272,11 @@ fn idling_with_a_free_due_codel_is_rejected() {
 fn a_control_thread_idling_with_its_locks_free_is_rejected() {
     // `set_speed`'s request taken at 5 ms, its codel begun only at 10 ms.
     let (c, mut t) = trace_of("f7_control_lock", 1, "t");
-    let k = t.steps.iter().position(|s| s.event == Event::Request).unwrap();
+    let k = t
+        .steps
+        .iter()
+        .position(|s| s.event == Event::Request)
+        .unwrap();
     t.steps[k].time_ns = Some(5 * MS);
     rejected(
         &c,
