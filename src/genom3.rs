@@ -55,6 +55,7 @@ pub(crate) fn check(
         component: verdicts.component,
         statistics: None,
         pragmas: front.pragmas,
+        response_times: Vec::new(),
     };
     let clean = !result
         .diagnostics
