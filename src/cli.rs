@@ -130,6 +130,12 @@ pub struct CheckArgs {
     #[arg(long, value_name = "N", default_value_t = genom_checker::DEFAULT_MAX_INSTANCES,
           value_parser = parse_instances)]
     pub max_instances: usize,
+
+    /// A deadline for a service's worst-case response time (from its
+    /// acknowledgment to its final reply), e.g. `Move=50ms`; a later worst
+    /// case is a `deadline-miss` error with its trace (repeatable).
+    #[arg(long = "deadline", value_name = "SERVICE=DURATION", value_parser = parse_deadline)]
+    pub deadlines: Vec<(String, u64)>,
 }
 
 /// How files are read: their dialect and, for GenoM3, where their
@@ -191,6 +197,25 @@ fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
         return Err(format!("`{text}` must be positive"));
     }
     Ok(parsed)
+}
+
+/// Parses `--deadline SERVICE=DURATION` (the duration as `--timeout`'s,
+/// a whole number of nanoseconds, may be 0).
+fn parse_deadline(text: &str) -> Result<(String, u64), String> {
+    let (name, duration) = text
+        .split_once('=')
+        .ok_or_else(|| format!("`{text}` is not `SERVICE=DURATION`, e.g. `Move=50ms`"))?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err(format!("`{text}` names no service"));
+    }
+    let ns = if duration.trim() == "0" {
+        0
+    } else {
+        u64::try_from(parse_duration(duration)?.as_nanos())
+            .map_err(|_| format!("`{duration}` is too long"))?
+    };
+    Ok((name.to_owned(), ns))
 }
 
 /// Parses `--max-instances`: 1 to 31 (GenoM3's slots per task less the

@@ -73,6 +73,7 @@ fn body(code: Code) -> &'static str {
         Code::MaxTimeInfeasible => max_time::EXPLANATION_INFEASIBLE,
         Code::MaxTimeExceeded => max_time::EXPLANATION_EXCEEDED,
         Code::MaxTimeWatchdog => max_time::EXPLANATION_WATCHDOG,
+        Code::DeadlineMiss => response_time::EXPLANATION,
         Code::MissingWcet => missing_wcet::EXPLANATION,
         Code::Livelock => livelock::EXPLANATION_LIVELOCK,
         Code::UnpausedLoop => livelock::EXPLANATION_UNPAUSED_LOOP,

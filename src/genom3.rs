@@ -53,6 +53,7 @@ pub(crate) fn check(
         component: verdicts.component,
         statistics: None,
         pragmas: front.pragmas,
+        response_times: Vec::new(),
     };
     // A codel longer than its task's period (`codel-overrun`) is a timing
     // finding, not a broken model: the engines still run.

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use genom_model::component::Component;
-use genom_model::{Diagnostic, Dialect, Pragma, SourceMap, Statistics, sort_diagnostics};
+use genom_model::{
+    Diagnostic, Dialect, Pragma, ResponseTime, SourceMap, Statistics, sort_diagnostics,
+};
 use genom_parser::{FsLoader, LoadError, Loader};
 
 pub use genom_checker::CheckOptions;
@@ -46,6 +48,9 @@ pub struct CheckResult {
     pub statistics: Option<Statistics>,
     /// The `#pragma` lines of a GenoM3 file, in preprocessor order.
     pub pragmas: Vec<Pragma>,
+    /// Worst-case response times by service name, when an engine computed
+    /// them (LANGUAGE.md components with timing).
+    pub response_times: Vec<ResponseTime>,
 }
 
 /// How to read a file: its dialect and, for GenoM3, where its includes and
@@ -158,6 +163,7 @@ pub fn check_source(
         component: verdicts.component,
         statistics: verdicts.statistics,
         pragmas: Vec::new(),
+        response_times: verdicts.response_times,
     }
 }
 
@@ -171,6 +177,7 @@ impl CheckResult {
             statistics: self.statistics.as_ref(),
             dialect: self.dialect,
             pragmas: &self.pragmas,
+            response_times: &self.response_times,
         }
     }
 

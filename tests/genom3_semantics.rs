@@ -206,6 +206,7 @@ fn each_fixture_report_is_snapshotted() {
             statistics: None,
             dialect: genom_model::Dialect::Genom3,
             pragmas: &[],
+            response_times: &[],
         };
         let options = genom_model::render::human::HumanOptions {
             color: false,

@@ -67,6 +67,7 @@ fn regressions_check_without_panic_and_with_spans_in_files() {
             statistics: result.statistics.as_ref(),
             dialect: genom_model::Dialect::Gen,
             pragmas: &[],
+            response_times: &[],
         };
         let text = human::render_diagnostics(&report, human::HumanOptions::default());
         let doc = json::render(&[report]);

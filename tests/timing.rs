@@ -145,6 +145,10 @@ fn verify(e: &Expected<'_>) -> (CheckResult, Trace) {
             let ack = end.late_ack_ns.expect("the instance's acknowledgment");
             assert!(end.last_ns > ack + m, "strictly after the deadline");
         }
+        TimedClaim::PastDeadline(_, d) => {
+            let ack = end.late_ack_ns.expect("the instance's acknowledgment");
+            assert!(end.last_ns > ack + d, "strictly after the deadline");
+        }
         TimedClaim::Rules => {}
     }
     if let Err(err) = replay(c, &trace) {

@@ -99,6 +99,7 @@ pub fn render(src: &str) -> String {
         statistics: None,
         dialect: genom_model::Dialect::Gen,
         pragmas: &[],
+        response_times: &[],
     };
     let options = human::HumanOptions {
         color: false,

@@ -2,11 +2,12 @@
 //! front-end lowered, then (when the model is a clean component) the
 //! untimed or timed engine and the verdicts of its exploration.
 
+use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 use genom_model::component::Component;
 use genom_model::limits::Watch;
-use genom_model::{Code, Diagnostic, Severity, Statistics, sort_diagnostics};
+use genom_model::{Code, Diagnostic, ResponseTime, Severity, Statistics, sort_diagnostics};
 
 use crate::engine::Limits;
 
@@ -26,6 +27,7 @@ pub struct CheckOptions {
     behaviour: bool,
     reduction: bool,
     max_instances: usize,
+    deadlines: BTreeMap<String, u64>,
 }
 
 impl Default for CheckOptions {
@@ -37,6 +39,7 @@ impl Default for CheckOptions {
             behaviour: true,
             reduction: true,
             max_instances: DEFAULT_MAX_INSTANCES,
+            deadlines: BTreeMap::new(),
         }
     }
 }
@@ -92,6 +95,21 @@ impl CheckOptions {
         self
     }
 
+    /// `--deadline SERVICE=DURATION`: a worst-case response time of the
+    /// service later than `ns` nanoseconds is a `deadline-miss` error
+    /// (services the component does not have are ignored here: the CLI
+    /// reports them).
+    #[must_use]
+    pub fn deadline_for(mut self, service: &str, ns: u64) -> Self {
+        self.deadlines.insert(service.to_owned(), ns);
+        self
+    }
+
+    /// The deadlines of [`CheckOptions::deadline_for`], by service name.
+    pub fn deadlines(&self) -> &BTreeMap<String, u64> {
+        &self.deadlines
+    }
+
     /// The instance bound of [`CheckOptions::max_instances`].
     pub fn instance_bound(&self) -> usize {
         self.max_instances
@@ -135,6 +153,9 @@ pub struct Verdicts {
     pub component: Option<Component>,
     /// Exploration figures, when the engines ran.
     pub statistics: Option<Statistics>,
+    /// Worst-case response times by service name, when the timed engine
+    /// ran (the component gives timing).
+    pub response_times: Vec<ResponseTime>,
 }
 
 /// Checks the model a front-end lowered. `model` is the resolved model
@@ -165,11 +186,15 @@ pub fn verify(
         diagnostics.retain(|d| d.code != Code::MissingWcet);
     }
     let mut statistics = None;
+    let mut response_times = Vec::new();
     if let (Some(c), true, true) = (&component, clean, options.behaviour) {
         let analysis = if c.gives_timing() {
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);
+            let (times, found) = responses(c, options, started, &analysis);
+            response_times = times;
+            diagnostics.extend(found);
             analysis
         } else {
             crate::engine::analyse_with(c, options.limits(started), options.reduction)
@@ -191,7 +216,36 @@ pub fn verify(
         diagnostics,
         component,
         statistics,
+        response_times,
     }
+}
+
+/// The worst-case response times and the deadline verdicts, computed by
+/// one more timed exploration per cluster (with what is left of the state
+/// limit after `analysis`).
+fn responses(
+    c: &Component,
+    options: &CheckOptions,
+    started: Instant,
+    analysis: &crate::engine::Analysis,
+) -> (Vec<ResponseTime>, Vec<Diagnostic>) {
+    let mut limits = options.limits(started);
+    limits.max_states = limits
+        .max_states
+        .saturating_sub(usize::try_from(analysis.states).unwrap_or(usize::MAX))
+        .max(1);
+    let deadlines: BTreeMap<_, u64> = options
+        .deadlines
+        .iter()
+        .filter_map(|(name, &ns)| {
+            let s = c.services.iter().find(|(_, s)| &s.name.name == name)?.0;
+            Some((s, ns))
+        })
+        .collect();
+    let found = crate::timed::response_times(c, limits, &deadlines);
+    let times = crate::checks::response_time::response_times(c, &found);
+    let diagnostics = crate::checks::response_time::check(c, &found, &times, &deadlines);
+    (times, diagnostics)
 }
 
 /// Gives each `codel-overrun` (a static check, whose primary label is the

@@ -58,6 +58,7 @@ pub fn render(
         statistics,
         dialect: genom_model::Dialect::Gen,
         pragmas: &[],
+        response_times: &[],
     };
     let text = human::render_diagnostics(&report, human::HumanOptions::default());
     let summary = human::render_summary(PATH, report.counts());

@@ -145,6 +145,8 @@ codes! {
     MaxTimeExceeded = "max-time-exceeded", Error, "some execution misses the max-time";
     /// Max-time is only enforced by the watchdog.
     MaxTimeWatchdog = "max-time-watchdog", Advice, "an unbounded loop: max-time is only enforced by the watchdog";
+    /// A worst-case response time later than a `--deadline`.
+    DeadlineMiss = "deadline-miss", Error, "some execution replies to the service later than its `--deadline` (or never)";
     /// Timing checks incomplete because codels lack WCETs.
     MissingWcet = "missing-wcet", Advice, "timing checks incomplete because codels lack `max-time`";
     /// A limit stopped verification.

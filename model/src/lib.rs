@@ -12,6 +12,7 @@ pub mod limits;
 pub mod loader;
 pub mod petri;
 pub mod render;
+pub mod response;
 pub mod span;
 pub mod stats;
 pub mod timed_automata;
@@ -19,6 +20,7 @@ pub mod trace;
 
 pub use diagnostic::{Code, Counts, Diagnostic, Label, Severity, sort_diagnostics};
 pub use dialect::{Dialect, Pragma};
+pub use response::{Bound, ResponseTime};
 pub use span::{FileId, Located, SourceFile, SourceMap, Span};
 pub use stats::Statistics;
 pub use trace::{Event, Trace, TraceStep};

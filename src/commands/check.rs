@@ -18,6 +18,10 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .behaviour(!args.static_only)
         .reduction(!args.no_reduction)
         .max_instances(args.max_instances);
+    let options = args
+        .deadlines
+        .iter()
+        .fold(options, |o, (s, ns)| o.deadline_for(s, *ns));
     let mut unread: Vec<json::JsonUnread> = Vec::new();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     let inputs = args.input.inputs();
@@ -32,6 +36,10 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
                 });
             }
         }
+    }
+    if let Some(message) = unknown_deadline(args, &results) {
+        eprintln!("error: {message}");
+        return EXIT_USAGE;
     }
     let reports: Vec<FileReport<'_>> = results.iter().map(|(path, r)| r.report(path)).collect();
     match output.format {
@@ -60,6 +68,7 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
             terminal::emit(&human::render_diagnostic(report.sources, d, options));
         }
         if !output.quiet {
+            terminal::emit(&genom_model::response::render_table(report.response_times));
             terminal::emit(&(summary_line(report) + "\n"));
         }
     }
@@ -71,6 +80,29 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
     if !output.quiet && reports.len() > 1 {
         terminal::emit(&(human::render_total(total(reports), reports.len()) + "\n"));
     }
+}
+
+/// A `--deadline` naming a service that a checked LANGUAGE.md component
+/// does not have: the usage error to print (with the closest name).
+fn unknown_deadline(args: &CheckArgs, results: &[(String, CheckResult)]) -> Option<String> {
+    for (path, r) in results {
+        let Some(c) = r.component.as_ref().filter(|_| r.dialect == Dialect::Gen) else {
+            continue;
+        };
+        let names: Vec<&str> = c.services.values().map(|s| s.name.name.as_str()).collect();
+        for (service, _) in &args.deadlines {
+            if names.contains(&service.as_str()) {
+                continue;
+            }
+            let hint = genom_model::diagnostic::closest(service, names.iter().copied())
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Some(format!(
+                "--deadline: `{path}` has no service `{service}`{hint}"
+            ));
+        }
+    }
+    None
 }
 
 /// Once per run, as rustc does: how to learn more about the codes shown

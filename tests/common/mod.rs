@@ -40,6 +40,7 @@ pub fn render(path: &Path, result: &CheckResult) -> String {
         statistics: None,
         dialect: genom_model::Dialect::Gen,
         pragmas: &[],
+        response_times: &[],
     };
     let options = human::HumanOptions {
         color: false,

@@ -62,6 +62,10 @@ pub enum TimedClaim<'a> {
     /// The named service is still running, uninterrupted, strictly after
     /// its acknowledgment plus its max-time.
     LateService(&'a str),
+    /// The named service has an instance (main or pending, active or
+    /// stopping) that has not replied, strictly after its acknowledgment
+    /// plus the given deadline in nanoseconds (`--deadline`).
+    PastDeadline(&'a str, u64),
 }
 
 /// The facts read off a valid trace, for the tests' own assertions.
@@ -937,6 +941,34 @@ impl Checker<'_> {
                         "the violation at {} ns is not after the deadline {} ns",
                         self.now,
                         ack + m
+                    ));
+                }
+                self.end.late_ack_ns = Some(ack);
+                Ok(())
+            }
+            TimedClaim::PastDeadline(name, deadline) => {
+                if !over.is_empty() {
+                    return Err("an overrun the verdict does not claim".to_owned());
+                }
+                let s = self.c.service_named(name).ok_or("no service")?;
+                let v = &self.svc[s.0 as usize];
+                // The oldest instance without reply: the main one if any.
+                let ack = match (&v.main, v.main_ack, v.pending_ack) {
+                    (Main::Idle, _, Some(p)) => p,
+                    (Main::Idle, _, None) => {
+                        return Err(format!("`{name}` has no instance at the end"));
+                    }
+                    (_, Some(a), _) => a,
+                    (_, None, _) => return Err(format!("`{name}` has no acknowledged instance")),
+                };
+                if self.owed.contains(&s) {
+                    return Err(format!("`{name}` has ended and owes its reply"));
+                }
+                if self.now <= ack + deadline {
+                    return Err(format!(
+                        "the violation at {} ns is not after the deadline {} ns",
+                        self.now,
+                        ack + deadline
                     ));
                 }
                 self.end.late_ack_ns = Some(ack);

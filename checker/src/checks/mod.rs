@@ -26,6 +26,7 @@ pub mod no_termination;
 pub mod privilege_escalation;
 pub mod prototype_mismatch;
 pub mod recursive_type;
+pub mod response_time;
 #[cfg(test)]
 mod service_structure;
 pub mod starvation;

@@ -133,6 +133,7 @@ mod tests {
             statistics: None,
             dialect: crate::Dialect::Gen,
             pragmas: &[],
+            response_times: &[],
         };
         let summary = ["a.gen: 1 error, 0 warnings, 1 advice".to_owned()];
         let out = render(&[report], Some(&summary));

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use super::FileReport;
 use crate::diagnostic::{Counts, Diagnostic};
+use crate::response::JsonResponseTime;
 use crate::span::{SourceMap, Span};
 use crate::stats::Statistics;
 use crate::trace::{Trace, TraceStep};
@@ -39,6 +40,9 @@ pub struct JsonFile {
     pub statistics: Option<Statistics>,
     /// Its `#pragma` lines (GenoM3), in preprocessor order.
     pub pragmas: Vec<JsonPragma>,
+    /// Worst-case response times by service name (empty when not
+    /// computed: no timing, or the engines did not run).
+    pub response_times: Vec<JsonResponseTime>,
 }
 
 /// A `#pragma` line.
@@ -203,6 +207,11 @@ pub fn document_with_unread(reports: &[FileReport<'_>], unread: &[JsonUnread]) -
                     .map(|d| diagnostic(r.sources, d))
                     .collect(),
                 statistics: r.statistics.cloned(),
+                response_times: r
+                    .response_times
+                    .iter()
+                    .map(JsonResponseTime::from)
+                    .collect(),
             }
         })
         .collect();
@@ -330,6 +339,7 @@ mod tests {
             statistics: None,
             dialect: crate::dialect::Dialect::Gen,
             pragmas: &[],
+            response_times: &[],
         };
         let v: serde_json::Value = serde_json::from_str(&render(&[report])).unwrap();
         assert_eq!(v["version"], 1);

@@ -12,6 +12,7 @@ pub mod sarif;
 
 use crate::diagnostic::{Counts, Diagnostic};
 use crate::dialect::{Dialect, Pragma};
+use crate::response::ResponseTime;
 use crate::span::SourceMap;
 use crate::stats::Statistics;
 
@@ -30,6 +31,9 @@ pub struct FileReport<'a> {
     pub dialect: Dialect,
     /// Its `#pragma` lines (GenoM3), in preprocessor order.
     pub pragmas: &'a [Pragma],
+    /// Worst-case response times, by service name (empty when not
+    /// computed).
+    pub response_times: &'a [ResponseTime],
 }
 
 impl FileReport<'_> {

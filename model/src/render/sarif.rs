@@ -160,6 +160,7 @@ mod tests {
             statistics: None,
             dialect: crate::Dialect::Gen,
             pragmas: &[],
+            response_times: &[],
         };
         let text = render(&[report], &|c| format!("about {}", c.as_str()), "0.1.0");
         let log: Value = serde_json::from_str(&text).expect("JSON");

@@ -49,6 +49,12 @@ pub enum ClockRole {
     /// Time since the acknowledgment of a self-stopping service's pending
     /// instance (while the old instance stops).
     WatchPending(ServiceId),
+    /// Time since the acknowledgment of a service's tracked instance (its
+    /// response time, while it has not replied: see `timed::response`).
+    Response(ServiceId),
+    /// Time since the acknowledgment of a self-stopping service's pending
+    /// instance, for its response time.
+    ResponsePending(ServiceId),
 }
 
 /// The clocks, numbered from 1 (0 is the reference clock of zones).

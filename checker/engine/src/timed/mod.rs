@@ -6,8 +6,10 @@
 pub mod analysis;
 pub mod clocks;
 pub mod model;
+pub mod response;
 pub mod trace;
 
 pub use analysis::{
     CodelOverrun, Exceeded, Overrun, TimedFacts, analyse_timed, timed_explorations,
 };
+pub use response::{ServiceResponse, Worst, response_times};

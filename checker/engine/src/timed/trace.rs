@@ -32,6 +32,14 @@ pub enum Target {
         /// Its max-time in units.
         max: i64,
     },
+    /// Clock `clock` is above `after` units (a response clock past a
+    /// deadline), time passing after the last step as the invariants allow.
+    Late {
+        /// The clock.
+        clock: usize,
+        /// The bound it must exceed, in units.
+        after: i64,
+    },
 }
 
 /// A concrete timed trace of `path` (from the component start), with `last`
@@ -153,6 +161,9 @@ fn instants(
     let mut zone = st.zone.clone();
     if let Target::Exceeded { member, clock, max } = target {
         zone = exceeded_zone(ts, &st, member, clock, max);
+    }
+    if let Target::Late { clock, after } = target {
+        zone.constrain(0, clock, lt(-after));
     }
     let loop_start = loop_from
         .and_then(|k| marks.get(k + 1))

@@ -23,11 +23,14 @@
 //!
 //! A symbolic state is the discrete state plus a clock zone.
 
+mod response;
 mod steps;
 
 use genom_model::behaviour::{Behaviour, IDLE, Position};
 use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
 use genom_model::trace::TraceStep;
+
+pub use response::Forever;
 
 use super::clocks::{ClockRole, Clocks, unit_ns, units};
 use crate::engine::explore::Model;
@@ -135,6 +138,9 @@ pub struct TimedSystem<'a> {
     /// Per member: its watchdog fires exactly at its max-time (else at any
     /// time from `max_time`, the horizon, on).
     pub watch_exact: Vec<bool>,
+    /// Per member: response clocks of its main (and pending) instance,
+    /// when its response time is measured ([`TimedSystem::track_responses`]).
+    pub response: Vec<Option<(usize, usize)>>,
     /// Clock of the control codel.
     ctl_clock: usize,
     /// The clocks.
@@ -209,6 +215,7 @@ impl<'a> TimedSystem<'a> {
                 .map(|t| 1 + order_words(t.members.len()))
                 .sum::<usize>()
             + 1;
+        let members_len = sys.len();
         TimedSystem {
             sys,
             c,
@@ -220,6 +227,7 @@ impl<'a> TimedSystem<'a> {
             ctl_wcet,
             watch,
             watch_exact,
+            response: vec![None; members_len],
             ctl_clock,
             clocks,
             frozen,

@@ -25,6 +25,7 @@ impl<'a> TimedSystem<'a> {
         // After the delay: a clock freed before it would still record that
         // it is at least as old as the others.
         self.free_dead_clocks(&mut st);
+        self.free_endless_responses(&mut st);
         if extrapolate && !st.zone.is_empty() {
             st.zone.extrapolate(&self.clocks.lower, &self.clocks.upper);
         }
@@ -160,6 +161,7 @@ impl<'a> TimedSystem<'a> {
                 || (initial && System::has_instance(&st.cfg, i));
             let change = self.change(before, &st.cfg, i, acked);
             self.instance_clocks(before, st, i, change);
+            self.response_clocks(before, st, i, change);
             self.instance_threads(st, i, change);
         }
     }
