@@ -355,8 +355,12 @@ impl<'a> TimedEngine<'a> {
     }
 
     /// Another task has waited for a lock with a due codel that conflicts
-    /// with codel `k` of task `t`: its ticket is older (GenoM3's FIFO).
+    /// with codel `k` of task `t`, which has not waited: its ticket is older
+    /// (GenoM3's FIFO). Among tasks that both waited, any order.
     fn queued_behind(&self, st: &TG3State, t: usize, k: usize) -> bool {
+        if st.waiting >> t & 1 == 1 {
+            return false;
+        }
         (0..self.e.m.tasks.len())
             .filter(|&u| u != t && st.waiting >> u & 1 == 1)
             .any(|u| {

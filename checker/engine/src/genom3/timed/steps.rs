@@ -169,7 +169,13 @@ impl TimedEngine<'_> {
         if self.urgent(st) {
             return None;
         }
-        self.holders(st, Some(t))
+        let holders = self.holders(st, Some(t));
+        if holders.is_empty() {
+            // Due work that nothing running delays and that cannot begin:
+            // it stays unfinished at the tick.
+            return Some(st.zone.clone());
+        }
+        holders
             .into_iter()
             .find_map(|(_, clock, w)| below(clock, w))
     }

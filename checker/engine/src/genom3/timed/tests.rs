@@ -173,3 +173,19 @@ fn a_first_tick_after_a_delay_comes_and_an_async_codel_on_a_periodic_task_overru
         .collect();
     assert_eq!(ticks, [1_000_000, 21_000_000], "{t:#?}");
 }
+
+#[test]
+fn two_tasks_that_waited_for_each_others_lock_do_not_block_each_other() {
+    // Both tasks' codels wait behind the control thread's 5 ms codel, then
+    // conflict with each other: one goes first (2 ms each), no overrun.
+    let text = "component w {\n  ids { long x; };\n  task a { period 10 ms; };\n  task b { period 10 ms; };\n  activity ra() { task a; codel<start, s> fa(inout x) yield pause::s, ether; };\n  activity rb() { task b; codel<start, s> fb(inout x) yield pause::s, ether; };\n  function set(in long v) { codel fs(in v, out x); };\n};\n";
+    let c = load_genom3_wcet(text, "ra.s 2ms\nrb.s 2ms\nset.codel 5ms\n");
+    let m = Machine::new(&c, 1).expect("GenoM3");
+    let a = analyse_timing(&m, Limits::default()).expect("few tasks");
+    assert!(a.stopped.is_none());
+    assert!(
+        a.overruns.is_empty(),
+        "{:#?}",
+        a.overruns.first().map(|o| &o.trace)
+    );
+}
