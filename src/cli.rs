@@ -136,6 +136,12 @@ pub struct CheckArgs {
     /// case is a `deadline-miss` error with its trace (repeatable).
     #[arg(long = "deadline", value_name = "SERVICE=DURATION", value_parser = parse_deadline)]
     pub deadlines: Vec<(String, u64)>,
+
+    /// Computes and prints every service's worst-case response time (from
+    /// acknowledgment to final reply; JSON `response_times`). Costs one more
+    /// timed exploration; implied, for those services, by `--deadline`.
+    #[arg(long)]
+    pub response_times: bool,
 }
 
 /// How files are read: their dialect and, for GenoM3, where their

@@ -29,7 +29,8 @@ fn fixture(name: &str) -> PathBuf {
 }
 
 fn check_with(path: &Path, options: &CheckOptions) -> CheckResult {
-    genom_check::check_file(path, &FsLoader, options).expect("fixture is readable")
+    let options = options.clone().response_times(true);
+    genom_check::check_file(path, &FsLoader, &options).expect("fixture is readable")
 }
 
 /// The worst case of each service, by name.
@@ -217,7 +218,12 @@ fn genom_check() -> Command {
 #[test]
 fn the_table_follows_the_diagnostics() {
     let out = genom_check()
-        .args(["--color", "never", "tests/fixtures/response/unbounded.gen"])
+        .args([
+            "--color",
+            "never",
+            "--response-times",
+            "tests/fixtures/response/unbounded.gen",
+        ])
         .output()
         .unwrap();
     let text = String::from_utf8(out.stdout).unwrap();
@@ -239,6 +245,7 @@ fn json_lists_response_times_by_service_name() {
         .args([
             "--format",
             "json",
+            "--response-times",
             "tests/fixtures/response/interrupted.gen",
             "specs/pilot.gen",
         ])
@@ -326,4 +333,28 @@ fn explain_knows_deadline_miss() {
         .assert()
         .code(0)
         .stdout(predicates::str::contains("# `deadline-miss` (error)"));
+}
+
+#[test]
+fn response_times_are_computed_only_when_asked() {
+    let out = genom_check()
+        .args([
+            "--format",
+            "json",
+            "tests/fixtures/response/interrupted.gen",
+        ])
+        .output()
+        .unwrap();
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["files"][0]["response_times"], serde_json::json!([]));
+    let text = genom_check()
+        .args([
+            "--color",
+            "never",
+            "tests/fixtures/response/interrupted.gen",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(text.stdout).unwrap();
+    assert!(!text.contains("worst-case response times"), "{text}");
 }

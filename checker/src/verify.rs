@@ -28,6 +28,7 @@ pub struct CheckOptions {
     reduction: bool,
     max_instances: usize,
     deadlines: BTreeMap<String, u64>,
+    response_times: bool,
 }
 
 impl Default for CheckOptions {
@@ -40,6 +41,7 @@ impl Default for CheckOptions {
             reduction: true,
             max_instances: DEFAULT_MAX_INSTANCES,
             deadlines: BTreeMap::new(),
+            response_times: false,
         }
     }
 }
@@ -102,6 +104,15 @@ impl CheckOptions {
     #[must_use]
     pub fn deadline_for(mut self, service: &str, ns: u64) -> Self {
         self.deadlines.insert(service.to_owned(), ns);
+        self
+    }
+
+    /// `--response-times`: computes every service's worst-case response
+    /// time (one more timed exploration, 2-3 times the cost of the timing
+    /// checks; always done for the services given a deadline).
+    #[must_use]
+    pub fn response_times(mut self, on: bool) -> Self {
+        self.response_times = on;
         self
     }
 
@@ -192,9 +203,11 @@ pub fn verify(
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);
-            let (times, found) = responses(c, options, started, &analysis);
-            response_times = times;
-            diagnostics.extend(found);
+            if options.response_times || !options.deadlines.is_empty() {
+                let (times, found) = responses(c, options, started, &analysis);
+                response_times = times;
+                diagnostics.extend(found);
+            }
             analysis
         } else {
             crate::engine::analyse_with(c, options.limits(started), options.reduction)

@@ -17,7 +17,8 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         .max_memory(args.max_memory)
         .behaviour(!args.static_only)
         .reduction(!args.no_reduction)
-        .max_instances(args.max_instances);
+        .max_instances(args.max_instances)
+        .response_times(args.response_times);
     let options = args
         .deadlines
         .iter()
