@@ -26,30 +26,24 @@ pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; 
 /// Loads GenoM3 text as `t.gen` (no include path from the environment);
 /// panics on any error, as a test fixture must be valid.
 pub fn load_genom3(text: &str) -> Component {
-    let options = genom_genom3::Genom3Options {
-        use_env_include_path: false,
-        ..genom_genom3::Genom3Options::default()
-    };
-    let out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let errors: Vec<_> = out
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == genom_model::Severity::Error)
-        .collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    out.component.unwrap_or_else(|| panic!("no component"))
+    load(text, None)
 }
 
 /// [`load_genom3`] with a WCET side file (`t.wcet`); panics on any error.
 pub fn load_genom3_wcet(text: &str, wcet: &str) -> Component {
+    load(text, Some(wcet))
+}
+
+fn load(text: &str, wcet: Option<&str>) -> Component {
     let options = genom_genom3::Genom3Options {
         use_env_include_path: false,
         ..genom_genom3::Genom3Options::default()
     };
     let mut out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options)
         .unwrap_or_else(|e| panic!("{e}"));
-    genom_genom3::add_wcet_file(&mut out, Path::new("t.wcet"), wcet.to_owned());
+    if let Some(w) = wcet {
+        genom_genom3::add_wcet_file(&mut out, Path::new("t.wcet"), w.to_owned());
+    }
     let errors: Vec<_> = out
         .diagnostics
         .iter()

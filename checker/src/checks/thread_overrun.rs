@@ -2,9 +2,9 @@
 //! not finished when the thread wakes up again; found by the timed engine,
 //! with a timed trace.
 
-use genom_model::component::Component;
+use genom_model::component::{Component, Thread};
 use genom_model::render::human::format_ns;
-use genom_model::{Code, Diagnostic};
+use genom_model::{Code, Diagnostic, Trace};
 
 use crate::genom3::Machine;
 use crate::genom3::timed::analysis::TimingAnalysis;
@@ -72,19 +72,13 @@ pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
         .iter()
         .filter(|o| !over_codel.contains(&o.thread))
         .map(|o| {
-            let t = &c.threads[o.thread];
-            let period = t.period.map_or(0, |p| p.ns);
-            let mut d = Diagnostic::new(
-                Code::ThreadOverrun,
-                format!("thread `{}` can overrun its {} period", t.name.name, format_ns(period)),
-                t.name.span,
+            overrun(
+                &c.threads[o.thread],
+                "thread",
                 "its codels of one period can take longer than the period",
+                "make the services it runs together exclusive, shorten their codels, or move one to another thread",
+                &o.trace,
             )
-            .with_help("make the services it runs together exclusive, shorten their codels, or move one to another thread");
-            if let Some(p) = t.period {
-                d = d.with_label(p.span, "the period");
-            }
-            d.with_trace(o.trace.clone())
         })
         .collect()
 }
@@ -106,20 +100,34 @@ pub fn check_genom3(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<Diagnostic>
         .iter()
         .filter(|o| !long_codel(o.task))
         .map(|o| {
-            let task = &m.tasks[o.task];
-            let t = &m.c.threads[task.thread];
-            let period = t.period.map_or(0, |p| p.ns);
-            let mut d = Diagnostic::new(
-                Code::ThreadOverrun,
-                format!("task `{}` can overrun its {} period", task.name, format_ns(period)),
-                t.name.span,
+            overrun(
+                &m.c.threads[m.tasks[o.task].thread],
+                "task",
                 "its wake-up (every unpaused instance, chains without `pause::`, lock waits) can take longer than the period",
+                "add `pause::` between codels of a chain, make instances interrupt each other (`interrupts`), shorten the codels, or move an activity to another task",
+                &o.trace,
             )
-            .with_help("add `pause::` between codels of a chain, make instances interrupt each other (`interrupts`), shorten the codels, or move an activity to another task");
-            if let Some(p) = t.period {
-                d = d.with_label(p.span, "the period");
-            }
-            d.with_trace(o.trace.clone())
         })
         .collect()
+}
+
+/// The diagnostic of thread `t` (a `thread` or a GenoM3 `task`) overrunning,
+/// with its trace.
+fn overrun(t: &Thread, what: &str, label: &str, help: &str, trace: &Trace) -> Diagnostic {
+    let period = t.period.map_or(0, |p| p.ns);
+    let mut d = Diagnostic::new(
+        Code::ThreadOverrun,
+        format!(
+            "{what} `{}` can overrun its {} period",
+            t.name.name,
+            format_ns(period)
+        ),
+        t.name.span,
+        label,
+    )
+    .with_help(help);
+    if let Some(p) = t.period {
+        d = d.with_label(p.span, "the period");
+    }
+    d.with_trace(trace.clone())
 }
