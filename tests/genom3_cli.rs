@@ -6,6 +6,8 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::print_stderr)] // test support code; skips are said on stderr
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
@@ -420,21 +422,11 @@ fn explain_knows_the_genom3_codes() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("ether"));
 }
 
-/// The GenoM3 corpus, when it is on this machine (it is outside the
-/// repository: `../shared/corpus/genom3`).
-fn corpus() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/genom3");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", dir.display());
-        None
-    }
-}
-
 #[test]
 fn every_real_component_of_the_corpus_checks_without_error() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = common::genom3_corpus() else {
+        return;
+    };
     let mut components: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())

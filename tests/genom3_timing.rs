@@ -8,6 +8,8 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
@@ -163,12 +165,10 @@ fn a_permanent_codel_without_wcet_is_named_by_missing_wcet() {
 /// codel holds the `log` member that `control` needs; the trace replays.
 #[test]
 fn uavatt_overruns_behind_the_log_function_and_the_trace_replays() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/genom3");
-    let file = root.join("uavatt-genom3/uavatt.gen");
-    if !file.exists() {
-        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", root.display());
+    let Some(root) = common::genom3_corpus() else {
         return;
-    }
+    };
+    let file = root.join("uavatt-genom3/uavatt.gen");
     let inputs = Inputs {
         include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
         wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/uavatt.wcet")),

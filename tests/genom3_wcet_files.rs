@@ -6,6 +6,8 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::print_stderr)] // test support code; skips are said on stderr
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
@@ -26,21 +28,9 @@ const FILES: [(&str, &str); 6] = [
     ("T265.wcet", "T265-genom3/T265.gen"),
 ];
 
-/// The GenoM3 corpus, when it is on this machine (it is outside the
-/// repository: `../shared/corpus/genom3`).
-fn corpus() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/genom3");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", dir.display());
-        None
-    }
-}
-
 /// The pairs (WCET file, component) whose component is in the corpus.
 fn pairs() -> Vec<(PathBuf, PathBuf)> {
-    let Some(dir) = corpus() else {
+    let Some(dir) = common::genom3_corpus() else {
         return Vec::new();
     };
     FILES

@@ -18,6 +18,19 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The GenoM3 corpus, when it is on this machine (it is outside the
+/// repository: `../shared/corpus/genom3`); says on stderr when it is not.
+#[allow(clippy::print_stderr)] // a skipped test says why
+pub fn genom3_corpus() -> Option<PathBuf> {
+    let dir = root().join("../shared/corpus/genom3");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("SKIPPED: the GenoM3 corpus is not at {}", dir.display());
+        None
+    }
+}
+
 /// `path` relative to the workspace root, with `/` separators.
 pub fn relative(path: &Path) -> PathBuf {
     path.strip_prefix(root())

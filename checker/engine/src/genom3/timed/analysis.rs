@@ -13,7 +13,7 @@ use genom_model::trace::{Event, Trace, TraceStep};
 use super::groups::groups;
 use super::locks::Locks;
 use super::trace::timed_trace;
-use super::{TG3State, TimedEngine};
+use super::{TG3State, TimedEngine, unit_ns};
 use crate::engine::explore::{Limits, Stop, explore};
 use crate::engine::store::StateId;
 use crate::genom3::analysis::describe;
@@ -52,10 +52,10 @@ pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis>
     if m.tasks.len() > super::MAX_TASKS {
         return None;
     }
-    let locks = Locks::new(m, 1);
+    let locks = Locks::new(m, unit_ns(m));
     let mut out = TimingAnalysis::default();
     for group in groups(m, &locks) {
-        let te = TimedEngine::for_group(m.clone(), &group)?;
+        let te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
         out.clocks = out.clocks.max(te.clock_count());
         explore_group(&te, limits, &mut out);
         out.groups += 1;

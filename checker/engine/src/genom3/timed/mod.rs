@@ -181,8 +181,6 @@ pub struct TimedEngine<'a> {
     /// The `done` bits that matter: services some `after`/`before` names
     /// (the others are cleared, so that they do not split states).
     tracked: Vec<u64>,
-    /// Apply extrapolation (off to compute concrete traces).
-    pub extrapolate: bool,
     /// Per task: in the explored group (see [`groups`]).
     pub in_group: Vec<bool>,
 }
@@ -204,12 +202,18 @@ impl<'a> TimedEngine<'a> {
 
     /// The timed model of one group of `m`.
     pub fn for_group(m: Machine<'a>, group: &groups::Group) -> Option<Self> {
+        let locks = locks::Locks::new(&m, unit_ns(&m));
+        Self::with_locks(m, group, locks)
+    }
+
+    /// [`TimedEngine::for_group`] with the codels of `m` already read
+    /// (in units of [`unit_ns`]), for several groups of one machine.
+    pub fn with_locks(m: Machine<'a>, group: &groups::Group, locks: locks::Locks) -> Option<Self> {
         let n = m.tasks.len();
         if n > MAX_TASKS {
             return None;
         }
         let unit = unit_ns(&m);
-        let locks = locks::Locks::new(&m, unit);
         let to_units = |ns: u64| i64::try_from(ns / unit).unwrap_or(i64::MAX / 4);
         let period: Vec<Option<i64>> = m.tasks.iter().map(|t| t.period_ns.map(to_units)).collect();
         let delay: Vec<i64> = m.tasks.iter().map(|t| to_units(t.delay_ns)).collect();
@@ -275,7 +279,6 @@ impl<'a> TimedEngine<'a> {
             acts_of,
             locks,
             bounds,
-            extrapolate: true,
         })
     }
 
@@ -527,9 +530,10 @@ impl<'a> TimedEngine<'a> {
         if !st.ctl.is_some_and(|c| c.running) {
             st.zone.free(self.ctl_clock);
         }
-        // Only zones of the model's own clocks (trace zones have more).
+        // Only zones of the model's own clocks: a trace's zone has more
+        // (snapshot clocks, whose exact values it needs).
         let own = st.zone.clocks() == self.clock_count();
-        if self.extrapolate && own && !st.zone.is_empty() {
+        if own && !st.zone.is_empty() {
             st.zone.extrapolate(&self.bounds, &self.bounds);
         }
         st
@@ -571,7 +575,7 @@ fn canonical_calls(
 
 /// The time unit: the GCD of the periods, delays and WCETs (control codels
 /// included; 1 ns without any).
-fn unit_ns(m: &Machine<'_>) -> u64 {
+pub fn unit_ns(m: &Machine<'_>) -> u64 {
     let mut g = 0;
     for t in &m.tasks {
         g = gcd(gcd(g, t.period_ns.unwrap_or(0)), t.delay_ns);

@@ -39,6 +39,15 @@ fn overrunning(a: &TimingAnalysis, names: &[String]) -> Vec<String> {
     a.overruns.iter().map(|o| names[o.task].clone()).collect()
 }
 
+/// Instants of the steps with `event`.
+fn times_of(t: &Trace, event: Event) -> Vec<u64> {
+    t.steps
+        .iter()
+        .filter(|s| s.event == event)
+        .filter_map(|s| s.time_ns)
+        .collect()
+}
+
 /// Instants of the codel steps of `service`'s `codel`: (start, end).
 fn codel_times(t: &Trace, codel: &str) -> Vec<(Event, u64)> {
     t.steps
@@ -60,12 +69,7 @@ fn an_unpaused_chain_runs_in_one_period_and_overruns() {
     let exec = codel_times(t, "exec");
     assert_eq!(start.len(), 2, "{t:#?}");
     assert_eq!(exec.first().map(|x| x.0), Some(Event::CodelStart));
-    let ticks: Vec<u64> = t
-        .steps
-        .iter()
-        .filter(|s| s.event == Event::WakeUp)
-        .filter_map(|s| s.time_ns)
-        .collect();
+    let ticks = times_of(t, Event::WakeUp);
     let tick = ticks[ticks.len() - 2];
     let end = t.steps.last().and_then(|s| s.time_ns).expect("timed");
     assert_eq!(end - tick, 10_000_000, "one period after the tick");
@@ -102,12 +106,7 @@ fn port_readers_exclude_each_other_disjoint_writers_do_not() {
     // The overrun waits for the port: one reader starts only after the
     // other's 6 ms.
     let t = &a.overruns[0].trace;
-    let starts: Vec<u64> = t
-        .steps
-        .iter()
-        .filter(|s| s.event == Event::CodelStart)
-        .filter_map(|s| s.time_ns)
-        .collect();
+    let starts = times_of(t, Event::CodelStart);
     assert!(
         starts.windows(2).any(|w| w[1] - w[0] >= 4_000_000),
         "{t:#?}"
@@ -160,17 +159,10 @@ fn the_time_unit_divides_every_duration() {
 fn a_first_tick_after_a_delay_comes_and_an_async_codel_on_a_periodic_task_overruns() {
     // Task `io` wakes first at 1 ms; its `async` codel has no upper bound.
     let text = "component a {\n  task main { period 5 ms; };\n  task io { period 20 ms; delay 1 ms;\n    async codel<start> io_poll() yield pause::start, ether; };\n};\n";
-    let c = load_genom3_wcet(text, "io.start 1us\n");
-    let m = Machine::new(&c, 1).expect("GenoM3");
-    let a = analyse_timing(&m, Limits::default()).expect("few tasks");
+    let (a, _) = timing((text, "io.start 1us\n"), 1);
     assert_eq!(a.overruns.len(), 1);
     let t = &a.overruns[0].trace;
-    let ticks: Vec<u64> = t
-        .steps
-        .iter()
-        .filter(|s| s.event == Event::WakeUp)
-        .filter_map(|s| s.time_ns)
-        .collect();
+    let ticks = times_of(t, Event::WakeUp);
     assert_eq!(ticks, [1_000_000, 21_000_000], "{t:#?}");
 }
 
@@ -179,10 +171,7 @@ fn two_tasks_that_waited_for_each_others_lock_do_not_block_each_other() {
     // Both tasks' codels wait behind the control thread's 5 ms codel, then
     // conflict with each other: one goes first (2 ms each), no overrun.
     let text = "component w {\n  ids { long x; };\n  task a { period 10 ms; };\n  task b { period 10 ms; };\n  activity ra() { task a; codel<start, s> fa(inout x) yield pause::s, ether; };\n  activity rb() { task b; codel<start, s> fb(inout x) yield pause::s, ether; };\n  function set(in long v) { codel fs(in v, out x); };\n};\n";
-    let c = load_genom3_wcet(text, "ra.s 2ms\nrb.s 2ms\nset.codel 5ms\n");
-    let m = Machine::new(&c, 1).expect("GenoM3");
-    let a = analyse_timing(&m, Limits::default()).expect("few tasks");
-    assert!(a.stopped.is_none());
+    let (a, _) = timing((text, "ra.s 2ms\nrb.s 2ms\nset.codel 5ms\n"), 1);
     assert!(
         a.overruns.is_empty(),
         "{:#?}",
