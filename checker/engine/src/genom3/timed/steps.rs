@@ -250,24 +250,19 @@ impl TimedEngine<'_> {
         }
         if let Some(Target::State { state, pause }) = target {
             let landed = Inst::new(i.status, state);
-            let mut next = Inst {
-                mark: if pause { mark::PAUSED } else { 0 },
-                ..landed
-            };
             if !pause {
                 n.cont |= 1 << t;
             }
-            let flagged = i.has(mark::FLAGGED) && i.status == Status::Run;
-            let stop = self.e.m.fsm(owner).stop;
-            let kept = if flagged {
-                stop.map(|s| Inst::new(Status::Stop, s))
+            // Interrupted during this codel: its stop path (or its end).
+            let kept = if i.has(mark::FLAGGED) && i.status == Status::Run {
+                self.e.m.fsm(owner).stop.map(|s| Inst::new(Status::Stop, s))
             } else {
-                Some(next)
+                Some(Inst {
+                    mark: if pause { mark::PAUSED } else { 0 },
+                    ..landed
+                })
             };
-            if let (true, Some(k)) = (flagged, kept) {
-                next = k;
-            }
-            replace(&mut n.g, who, landed.pack(), kept.map(|_| next));
+            replace(&mut n.g, who, landed.pack(), kept);
         }
         let ended = total(&n.g) < before;
         self.e.settle(&mut n.g, ended);
