@@ -10,6 +10,7 @@ pub mod dot;
 pub mod fiacre;
 pub mod pnml;
 pub mod promela;
+pub mod promela_genom3;
 pub mod svg;
 pub mod tchecker;
 pub mod tina;

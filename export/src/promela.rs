@@ -4,6 +4,9 @@
 //! explorer (`checker/src/engine`), so that SPIN's verdicts can be compared
 //! with genom-check's (`tests/spin_diff.rs`, docs/testing/spin.md).
 //!
+//! A GenoM3 component is exported with GenoM3's own semantics instead
+//! ([`crate::promela_genom3`]).
+//!
 //! The encoding (docs/exports/promela.md):
 //!
 //! - global state, per service `i`: `mode_i` (`IDLE`, `READY`, `RUN`,
@@ -41,6 +44,9 @@ const MAX_CODELS: usize = 250;
 /// Exports the component's untimed semantics as a Promela model.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     let c = input.component;
+    if c.genom3.is_some() {
+        return crate::promela_genom3::export(input);
+    }
     supported(c)?;
     let mut out = String::new();
     header(&mut out, input);

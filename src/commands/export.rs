@@ -133,10 +133,14 @@ fn format(f: ExportFormat) -> Format {
 }
 
 /// Whether the export would model a GenoM3 component with LANGUAGE.md's
-/// semantics (every behavioural format; the diagrams only draw structure).
+/// semantics (every behavioural format but `promela`, which models
+/// GenoM3's own untimed semantics; the diagrams only draw structure).
 fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
     result.dialect == genom_model::Dialect::Genom3
-        && !matches!(args.target, ExportFormat::Dot | ExportFormat::Svg)
+        && !matches!(
+            args.target,
+            ExportFormat::Dot | ExportFormat::Svg | ExportFormat::Promela
+        )
 }
 
 /// What the check established.
