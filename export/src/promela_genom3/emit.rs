@@ -145,7 +145,11 @@ impl<'a> Model<'a> {
         let n = self.r.tasks.len();
         out.push_str("  /* boot order (10.1) */\n  if\n  :: phase == P_BOOT ->\n     do\n");
         for t in 0..n {
-            let _ = writeln!(out, "     :: booted == {t} && !pon_{t} -> booted = {}", t + 1);
+            let _ = writeln!(
+                out,
+                "     :: booted == {t} && !pon_{t} -> booted = {}",
+                t + 1
+            );
         }
         let _ = writeln!(
             out,
@@ -163,7 +167,11 @@ impl<'a> Model<'a> {
             if act.targets.is_empty() {
                 continue;
             }
-            let flags: String = act.targets.iter().map(|t| format!("flag_{t}(); ")).collect();
+            let flags: String = act
+                .targets
+                .iter()
+                .map(|t| format!("flag_{t}(); "))
+                .collect();
             let _ = write!(
                 out,
                 ";\n     if\n     :: st_{a} == DELAYED || st_{a} == READY ->  /* `{}` */\n        \
@@ -242,15 +250,16 @@ impl<'a> Model<'a> {
         let options = super::steps::options(self);
         let mut out = String::from(
             "/* the component: every transition of docs/genom3-semantics.md 14.2 */\n\
-             active proctype component() {\n  atomic { ended = 0; settle() };\nend:\n  do\n",
+             active proctype component() {\n  atomic { settle() };\nend:\n  do\n  :: atomic {\n     if\n",
         );
         if options.is_empty() {
-            out.push_str("  :: false\n");
+            out.push_str("     :: false\n");
         }
         for o in options {
-            let _ = writeln!(out, "  :: {o}");
+            let o = o.trim_end().trim_end_matches(';');
+            let _ = writeln!(out, "     :: {o}");
         }
-        out.push_str("  od\n}\n");
+        out.push_str("     fi;\n     settle()\n     }\n  od\n}\n");
         out
     }
 }

@@ -50,8 +50,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
         format: "promela",
         reason,
     };
-    let r = Reading::new(c)
-        .ok_or_else(|| unsupported("not a GenoM3 component".to_owned()))?;
+    let r = Reading::new(c).ok_or_else(|| unsupported("not a GenoM3 component".to_owned()))?;
     supported(&r).map_err(unsupported)?;
     let mut out = String::new();
     header(&mut out, input);
@@ -66,7 +65,11 @@ fn supported(r: &Reading) -> Result<(), String> {
         .activities
         .iter()
         .map(|a| (format!("activity `{}`", a.name), &a.fsm))
-        .chain(r.tasks.iter().map(|t| (format!("task `{}`", t.name), &t.fsm)));
+        .chain(
+            r.tasks
+                .iter()
+                .map(|t| (format!("task `{}`", t.name), &t.fsm)),
+        );
     for (who, fsm) in machines {
         if fsm.states.len() > MAX_STATES {
             return Err(format!("{who} has more than {MAX_STATES} states"));

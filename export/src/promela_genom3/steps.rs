@@ -1,5 +1,6 @@
 //! The steps of the GenoM3 model (docs/genom3-semantics.md 14.2), one
-//! `atomic` option each, every one ending with `settle()`: a permanent
+//! option each (a guard, then its effect; the process runs each in one
+//! `atomic` block followed by `settle()`): a permanent
 //! codel (with each of its outcomes), an activity request accepted, a
 //! function or attribute that succeeds, `abort_activity` on an instance,
 //! an instance starting, an instance's codel (with each outcome).
@@ -64,9 +65,8 @@ fn permanent(m: &mut Model<'_>, t: usize, out: &mut Vec<String>) {
             "codel `{}` of task `{}` (state `{}`) runs",
             state.function, task.name, state.name
         ));
-        let mut body = format!(
-            "{marker};\n       booting = (phase == P_BOOT && booted == {t});\n       if\n"
-        );
+        let mut body =
+            format!("{marker};\n       booting = (phase == P_BOOT && booted == {t});\n       if\n");
         for y in &state.yields {
             match *y {
                 Next::State(n) => {
@@ -88,8 +88,8 @@ fn permanent(m: &mut Model<'_>, t: usize, out: &mut Vec<String>) {
             t + 1
         );
         out.push(format!(
-            "atomic {{ pon_{t} && pat_{t} == {s} && (phase == P_RUN || phase == P_DRAIN || phase == P_PSTOP || (phase == P_BOOT && booted >= {t})) ->\n       \
-             {body}ended = 0; settle() }}"
+            "pon_{t} && pat_{t} == {s} && (phase == P_RUN || phase == P_DRAIN || phase == P_PSTOP || (phase == P_BOOT && booted >= {t})) ->\n       \
+             {body}"
         ));
     }
 }
@@ -107,8 +107,8 @@ fn accept(m: &Model<'_>, a: usize, out: &mut Vec<String>) {
         )
     };
     out.push(format!(
-        "atomic {{ phase == P_RUN && st_{a} == IDLE{} ->  /* request `{}` accepted */\n       \
-         ended = 0; {}{delay}; settle() }}",
+        "phase == P_RUN && st_{a} == IDLE{} ->  /* request `{}` accepted */\n       \
+         {}{delay}; ",
         admissible(m, act.service),
         act.name,
         flags(&act.targets)
@@ -127,8 +127,8 @@ fn call(m: &mut Model<'_>, k: usize, out: &mut Vec<String>) {
             for a in 0..m.r.activities.len() {
                 let marker = m.marker(format!("service `{}` is accepted", ctl.name));
                 out.push(format!(
-                    "atomic {{ {guard} && (st_{a} == DELAYED || st_{a} == READY || st_{a} == RUN) ->  /* `{}` on `{}` */\n       \
-                     {marker}; {done}ended = 0; flag_{a}(); settle() }}",
+                    "{guard} && (st_{a} == DELAYED || st_{a} == READY || st_{a} == RUN) ->  /* `{}` on `{}` */\n       \
+                     {marker}; {done}flag_{a}(); ",
                     ctl.name, m.r.activities[a].name
                 ));
             }
@@ -141,8 +141,8 @@ fn call(m: &mut Model<'_>, k: usize, out: &mut Vec<String>) {
                 ""
             };
             out.push(format!(
-                "atomic {{ {guard} ->  /* `{}` succeeds */\n       \
-                 {marker}; {done}ended = 0; {}{kill}settle() }}",
+                "{guard} ->  /* `{}` succeeds */\n       \
+                 {marker}; {done}{}{kill}",
                 ctl.name,
                 flags(&ctl.targets)
             ));
@@ -156,14 +156,14 @@ fn start(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
     let act = m.r.activities[a].clone();
     let marker = m.marker(format!("service `{}` starts", act.name));
     let go = match act.fsm.start {
-        Some(s) => format!("st_{a} = RUN; at_{a} = {s}; ended = 0"),
+        Some(s) => format!("st_{a} = RUN; at_{a} = {s}"),
         None => format!(
             "st_{a} = IDLE; at_{a} = 0; {}ended = 1",
             done(m, act.service)
         ),
     };
     out.push(format!(
-        "atomic {{ st_{a} == READY ->  /* `{}` starts */\n       {marker}; {go}; settle() }}",
+        "st_{a} == READY ->  /* `{}` starts */\n       {marker}; {go}; ",
         act.name
     ));
 }
@@ -178,7 +178,7 @@ fn codels(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
             "codel `{}` of activity `{}` (state `{}`) runs",
             state.function, act.name, state.name
         ));
-        let mut body = format!("{marker}; ended = 0;\n       if\n");
+        let mut body = format!("{marker};\n       if\n");
         for y in &state.yields {
             match *y {
                 Next::State(n) => {
@@ -198,11 +198,11 @@ fn codels(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
         }
         let _ = write!(
             body,
-            "       :: st_{a} = IDLE; at_{a} = 0; ended = 1  /* an exception */\n       fi; "
+            "       :: st_{a} = IDLE; at_{a} = 0; ended = 1  /* an exception */\n       fi"
         );
         out.push(format!(
-            "atomic {{ (st_{a} == RUN || st_{a} == STOP) && at_{a} == {s} ->  /* `{}` runs `{}` */\n       \
-             {body}settle() }}",
+            "(st_{a} == RUN || st_{a} == STOP) && at_{a} == {s} ->  /* `{}` runs `{}` */\n       \
+             {body}",
             act.name, state.name
         ));
     }
