@@ -61,12 +61,15 @@ pub(crate) fn check(
         .diagnostics
         .iter()
         .any(|d| d.severity == Severity::Error && d.code != genom_model::Code::CodelOverrun);
-    if let (true, true, Some(c)) = (options.runs_behaviour(), clean, result.component.take()) {
-        if let Some((found, stats)) = genom_checker::verify_genom3(&c, options, started) {
-            result.extend(found);
-            result.statistics = Some(stats);
+    // (Taken only when the engines run: a static-only check keeps it.)
+    if let (true, true) = (options.runs_behaviour(), clean) {
+        if let Some(c) = result.component.take() {
+            if let Some((found, stats)) = genom_checker::verify_genom3(&c, options, started) {
+                result.extend(found);
+                result.statistics = Some(stats);
+            }
+            result.component = Some(c);
         }
-        result.component = Some(c);
     }
     Ok(result)
 }

@@ -154,7 +154,7 @@ fn max_instances_explores_more_instances_with_the_same_verdicts() {
 }
 
 #[test]
-fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
+fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_are_not() {
     // Verified (untimed) and clean, but the UPPAAL model would have
     // LANGUAGE.md's semantics: refused, allowed only marked unverified.
     let dir = tempfile::tempdir().unwrap();
@@ -183,6 +183,17 @@ fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
         .unwrap();
     assert_eq!(drawn.status.code(), Some(0), "{drawn:?}");
     assert!(std::fs::read_to_string(&dot).unwrap().contains("digraph"));
+    // The Promela export models GenoM3's own untimed semantics: verified.
+    let pml = dir.path().join("demo.pml");
+    let modelled = genom_check()
+        .args(["export", "promela", DEMO, "-o"])
+        .arg(&pml)
+        .output()
+        .unwrap();
+    assert_eq!(modelled.status.code(), Some(0), "{modelled:?}");
+    let text = std::fs::read_to_string(&pml).unwrap();
+    assert!(text.starts_with("/* GenoM3's untimed semantics"), "{text}");
+    assert!(text.contains("Verification: verified"), "{text}");
 }
 
 #[test]
