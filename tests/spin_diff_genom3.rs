@@ -42,6 +42,68 @@ const MAX_STATES: usize = 200_000;
 const MEMLIM_MB: u32 = 64;
 const STUBS: &str = "tests/fixtures/genom3/include";
 
+/// Components written for this test, each mixing rules the fixtures
+/// exercise one at a time: `after` chains through a completion only a stop
+/// path gives, `before`, `interrupts all`, pending interrupters, the
+/// shutdown order of permanent stop paths, exceptions that never count.
+const HAND: [(&str, &str); 4] = [
+    (
+        "hand1",
+        r#"component h1 {
+  task t { period 10 ms; };
+  task u {
+    codel<start> h1_boot() yield ether;
+    codel<stop> h1_fini() yield more, ether;
+    codel<more> h1_more() yield ether;
+  };
+  activity x() { task t; codel<start> h1_x() yield pause::start; codel<stop> h1_xs() yield pause::stop, ether; };
+  activity y() { task u; after x; codel<start> h1_y() yield ether; };
+  activity z() { task t; interrupts x; codel<start> h1_z() yield ether; };
+  activity w() { task u; after y; before z; codel<start> h1_w() yield ether; };
+  function f() { interrupts all; codel h1_f(); };
+};
+"#,
+    ),
+    (
+        "hand2",
+        r#"component h2 {
+  task t;
+  activity a() { task t; codel<start> h2_a() yield pause::start; };
+  activity b() { task t; after a; codel<start> h2_b() yield ether; };
+  activity c() { task t; interrupts a, c; codel<start> h2_c() yield s1; codel<s1> h2_c1() yield ether; codel<stop> h2_cs() yield ether; };
+  activity d() { task t; after c; before b; codel<start> h2_d() yield ether; };
+};
+"#,
+    ),
+    (
+        "hand3",
+        r#"component h3 {
+  task t1 { codel<start> h3_s1() yield ether; };
+  task t2 { codel<start> h3_s2() yield ether; codel<stop> h3_st2() yield ether; };
+  task t3 { codel<start> h3_s3() yield m; codel<m> h3_m() yield pause::m; codel<stop> h3_st3() yield pause::stop, ether; };
+  activity a() { task t1; codel<start> h3_a() yield pause::start, ether; codel<stop> h3_as() yield pause::stop, s2; codel<s2> h3_a2() yield ether; };
+  activity b() { task t2; interrupts a; after a; codel<start> h3_b() yield ether; };
+  activity e() { task t2; after b; codel<start> h3_e() yield ether; };
+  activity g() { task t3; after e; interrupts all; codel<start> h3_g() yield ether; };
+};
+"#,
+    ),
+    (
+        "hand4",
+        r#"component h4 {
+  exception bad;
+  task t { period 5 ms; };
+  activity p() { task t; throw bad; codel<start> h4_p() yield pause::start; };
+  activity q() { task t; after p; codel<start> h4_q() yield ether; };
+  activity r() { task t; after q; codel<start> h4_r() yield ether; };
+  attribute s(in n = 0 : "n") { };
+  function k() { after s; interrupts p; codel h4_k(); };
+  ids { long n; };
+};
+"#,
+    ),
+];
+
 /// The verdicts compared.
 #[derive(Debug, Clone, PartialEq, Eq)]
 struct Verdicts {
@@ -403,7 +465,14 @@ fn spin_agrees_with_the_genom3_engine() {
     let temp = tempfile::tempdir().expect("temporary directory");
     let keep = std::env::var_os("GENOM_SPIN_KEEP").map(PathBuf::from);
     let work = keep.as_deref().unwrap_or(temp.path());
-    let jobs = files();
+    let mut jobs = files();
+    let hand = work.join("hand");
+    std::fs::create_dir_all(&hand).expect("work directory");
+    for (name, text) in HAND {
+        let path = hand.join(format!("{name}.gen"));
+        std::fs::write(&path, text).expect("written");
+        jobs.push(path);
+    }
     let next = AtomicUsize::new(0);
     let outcomes = Mutex::new(Vec::new());
     std::thread::scope(|scope| {
