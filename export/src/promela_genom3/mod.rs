@@ -41,7 +41,7 @@ pub use reading::{ControlKind, Fsm, Next, Reading};
 /// task (so that every index fits a `byte` and the slot pool, 32 per task
 /// with the permanent activity, never fills with one instance per activity).
 const MAX_STATES: usize = 250;
-const MAX_ACTIVITIES_PER_TASK: usize = 31;
+const MAX_ACTIVITIES_PER_TASK: usize = 30;
 
 /// Exports a GenoM3 component's untimed semantics as a Promela model.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
@@ -80,7 +80,7 @@ fn supported(r: &Reading) -> Result<(), String> {
     }
     for (t, task) in r.tasks.iter().enumerate() {
         let n = r.activities.iter().filter(|a| a.task == t).count();
-        if n > MAX_ACTIVITIES_PER_TASK - 1 {
+        if n > MAX_ACTIVITIES_PER_TASK {
             return Err(format!(
                 "task `{}` has {n} activities: the slot pool could fill (not encoded)",
                 task.name
@@ -125,4 +125,43 @@ fn header(out: &mut String, input: &ExportInput<'_>) {
          \x20*        An invalid end state would be a bug of this model.\n\
          \x20*/\n\n",
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::{BTreeMap, BTreeSet};
+
+    use genom_model::component::{Idx, ServiceId};
+
+    use super::reading::{Activity, Task};
+    use super::*;
+
+    fn reading(activities: usize) -> Reading {
+        Reading {
+            tasks: vec![Task {
+                name: "t".to_owned(),
+                fsm: Fsm::default(),
+            }],
+            activities: (0..activities)
+                .map(|k| Activity {
+                    service: ServiceId::new(k),
+                    name: format!("a{k}"),
+                    task: 0,
+                    fsm: Fsm::default(),
+                    targets: Vec::new(),
+                })
+                .collect(),
+            controls: Vec::new(),
+            after: BTreeMap::new(),
+            before: BTreeMap::new(),
+            builtin: BTreeSet::new(),
+        }
+    }
+
+    #[test]
+    fn a_task_whose_slot_pool_could_fill_is_refused() {
+        assert!(supported(&reading(MAX_ACTIVITIES_PER_TASK)).is_ok());
+        let refused = supported(&reading(MAX_ACTIVITIES_PER_TASK + 1));
+        assert!(refused.is_err_and(|e| e.contains("slot pool")));
+    }
 }
