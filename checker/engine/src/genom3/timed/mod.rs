@@ -31,6 +31,7 @@
 pub mod analysis;
 pub mod groups;
 pub mod locks;
+pub mod response;
 mod steps;
 pub mod trace;
 
@@ -167,8 +168,18 @@ pub struct TimedEngine<'a> {
     pub acts_of: Vec<Vec<usize>>,
     /// The codels' WCETs and exclusion lists.
     pub locks: locks::Locks,
-    /// Largest constant each clock is compared with (index: clock − 1).
+    /// Largest constant each clock is compared with from below (`x > c`;
+    /// index: clock − 1).
     bounds: Vec<Option<i64>>,
+    /// Largest constant each clock is compared with from above (`x < c`):
+    /// as [`TimedEngine::bounds`], but none for response clocks.
+    upper: Vec<Option<i64>>,
+    /// Per activity: its response clock, when its response time is
+    /// measured ([`response`]).
+    pub resp: Vec<Option<usize>>,
+    /// The control thread's response clock (time since it took its
+    /// request), when measured.
+    pub ctl_resp: Option<usize>,
     /// Per service: the control codels (indices) that take time and whose
     /// locks some task's codel contends; the others run in no time here (a
     /// request may come at any time, so their duration changes nothing a
@@ -278,7 +289,10 @@ impl<'a> TimedEngine<'a> {
             ctl_clock,
             acts_of,
             locks,
+            upper: bounds.clone(),
             bounds,
+            resp: Vec::new(),
+            ctl_resp: None,
         })
     }
 
@@ -530,11 +544,12 @@ impl<'a> TimedEngine<'a> {
         if !st.ctl.is_some_and(|c| c.running) {
             st.zone.free(self.ctl_clock);
         }
+        self.free_responses(&mut st);
         // Only zones of the model's own clocks: a trace's zone has more
         // (snapshot clocks, whose exact values it needs).
         let own = st.zone.clocks() == self.clock_count();
         if own && !st.zone.is_empty() {
-            st.zone.extrapolate(&self.bounds, &self.bounds);
+            st.zone.extrapolate(&self.bounds, &self.upper);
         }
         st
     }
@@ -620,6 +635,7 @@ impl Model for TimedEngine<'_> {
         for (d, t) in n.g.done.iter_mut().zip(&self.tracked) {
             *d &= t;
         }
+        self.follow_responses(st, &mut n);
         let n = self.let_time_pass(n);
         (!n.zone.is_empty()).then_some(n)
     }

@@ -416,6 +416,7 @@ impl Sim<'_, '_> {
                 }
                 let status = if wait { Status::Delayed } else { Status::Ready };
                 self.insts.push(Inst::new(Owner::Activity(a), status, 0));
+                self.accepted[a] = Some(self.now);
                 let ended = self.insts.len() <= before;
                 self.settle(ended);
             }
