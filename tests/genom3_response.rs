@@ -140,26 +140,6 @@ fn an_unbounded_service_misses_any_deadline_with_a_trace_into_its_loop() {
 }
 
 #[test]
-fn an_overrunning_group_leaves_its_response_times_undecided() {
-    let path = Path::new("tests/fixtures/genom3/timing/f1b_chain_overrun.gen");
-    let inputs = Inputs {
-        wcet_file: Some(PathBuf::from(
-            "tests/fixtures/genom3/timing/f1b_chain_overrun.wcet",
-        )),
-        ..Inputs::default()
-    };
-    let r = check_path(
-        path,
-        &inputs,
-        &CheckOptions::new().deadline_for("chain", MS),
-    )
-    .unwrap();
-    assert_eq!(worst(&r, "chain"), Bound::Unknown);
-    assert!(r.diagnostics.iter().any(|d| d.code == Code::Incomplete));
-    assert!(misses(&r).is_empty());
-}
-
-#[test]
 fn a_deadline_without_wcets_is_undecided() {
     let path = Path::new(DIR).join("r1_paused_chain.gen");
     let options = CheckOptions::new().deadline_for("go", MS);
@@ -185,4 +165,49 @@ fn a_deadline_naming_no_service_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no service `gp`"), "{err}");
+}
+
+/// `set_speed`'s codel (5 ms) waits for `servo`'s (6 ms, same data): 11 ms.
+/// GenoM3's FIFO serves the waiting control thread before `servo`'s next
+/// codel, even when `servo`'s task overruns and wakes again at once (its
+/// tick coalesced): without the FIFO the control thread could wait for
+/// `servo` twice (17 ms).
+#[test]
+fn a_waiting_control_thread_keeps_its_place_in_the_lock_queue() {
+    let path = Path::new("tests/fixtures/genom3/timing/f7_control_lock.gen");
+    let inputs = Inputs {
+        wcet_file: Some(PathBuf::from(
+            "tests/fixtures/genom3/timing/f7_control_lock.wcet",
+        )),
+        ..Inputs::default()
+    };
+    let r = check_path(path, &inputs, &CheckOptions::new().response_times(true)).unwrap();
+    assert_eq!(worst(&r, "set_speed"), Bound::Exact(11 * MS));
+    assert_eq!(worst(&r, "servo"), Bound::Unbounded);
+    // The schedulability verdict is unchanged: `t` overruns.
+    assert!(r.diagnostics.iter().any(|d| d.code == Code::ThreadOverrun));
+}
+
+/// `reader` (2 ms, task `u`) is accepted just after `u`'s tick and waits for
+/// the permanent codel of task `t` (9 ms, same data) at the next one:
+/// 10 + 9 + 2 = 21 ms; `u` overruns meanwhile, its tick coalesced.
+#[test]
+fn response_times_hold_through_coalesced_overruns() {
+    let path = Path::new("tests/fixtures/genom3/timing/f3_permanent_lock.gen");
+    let inputs = Inputs {
+        wcet_file: Some(PathBuf::from(
+            "tests/fixtures/genom3/timing/f3_permanent_lock.wcet",
+        )),
+        ..Inputs::default()
+    };
+    let deadline = 21 * MS - 1;
+    let options = CheckOptions::new().deadline_for("reader", deadline);
+    let r = check_path(path, &inputs, &options).unwrap();
+    assert_eq!(worst(&r, "reader"), Bound::Exact(21 * MS));
+    let found = misses(&r);
+    assert_eq!(found.len(), 1);
+    let trace = found[0].trace.as_ref().expect("a trace");
+    let c = r.component.as_ref().unwrap();
+    let age = replay_genom3_alive(c, 1, trace, "reader").unwrap_or_else(|e| panic!("{e}"));
+    assert!(age > deadline && age <= 21 * MS, "{age}");
 }

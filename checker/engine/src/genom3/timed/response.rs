@@ -21,8 +21,11 @@
 //!   the codels whose locks some task contends, their waits (a control
 //!   response clock in the same exploration).
 //!
-//! One instance per activity (`--max-instances 1`); an overrun in a group
-//! leaves its services undecided (the exploration ends at the overrun).
+//! One instance per activity (`--max-instances 1`). A tick that finds its
+//! task's work unfinished is coalesced, as GenoM3 does (the task wakes
+//! again as soon as the work ends): the response times hold whether or not
+//! tasks overrun (`thread-overrun` is reported by the schedulability
+//! analysis, which stops at the first overrun tick instead).
 
 use std::collections::BTreeMap;
 
@@ -202,9 +205,7 @@ fn explore_group(
     let d_units = |s: ServiceId| deadlines.get(&s).map(|&d| (d / te.unit) as i64);
     let mut act_seen = vec![Seen::default(); acts.len()];
     let mut ctl_seen = vec![Seen::default(); ctls.len()];
-    let mut overrun = false;
     let e = explore(te, limits, |id, st: &TG3State| {
-        overrun |= st.violation.is_some();
         for (a, seen) in act_seen.iter_mut().enumerate() {
             let Some(x) = te.resp.get(a).copied().flatten() else {
                 continue;
@@ -236,8 +237,6 @@ fn explore_group(
     let conclude = |s: ServiceId, seen: &Seen, x: usize, extra: i64| {
         let worst = if e.stopped.is_some() {
             Worst::Incomplete
-        } else if overrun {
-            Worst::Undecided("a task of its group can overrun; response times assume none does")
         } else if seen.endless.is_some() {
             Worst::Unbounded
         } else if seen.above.is_some() {
@@ -409,6 +408,7 @@ impl TimedEngine<'_> {
     /// `ctl`, one for the control thread; compared from below only, with
     /// constants up to `horizon`.
     pub fn track_responses(&mut self, acts: &[bool], ctl: bool, horizon: i64) {
+        self.coalesce = true;
         self.resp = vec![None; self.e.m.activities.len()];
         for (a, _) in acts.iter().enumerate().filter(|(_, on)| **on) {
             self.bounds.push(Some(horizon));

@@ -92,7 +92,12 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
         TG3Action::Control(c) => step(&te.e, &before.g, &after.g, c),
         TG3Action::Tick(t) => {
             let p = format_ns(m.tasks[usize::from(t)].period_ns.unwrap_or(0));
-            let text = if after.violation.is_some() {
+            let text = if after.late >> t & 1 == 1 {
+                format!(
+                    "task `{}` reaches its tick (period {p}) still busy: the tick is coalesced, the task wakes again as soon as its work ends",
+                    task(t)
+                )
+            } else if after.violation.is_some() {
                 format!(
                     "task `{}` reaches its tick (period {p}) still busy",
                     task(t)

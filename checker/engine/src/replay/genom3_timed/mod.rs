@@ -155,6 +155,11 @@ struct Sim<'m, 'c> {
     now: u64,
     /// Per activity: when its last instance was accepted.
     accepted: Vec<Option<u64>>,
+    /// Ticks that find work unfinished are coalesced (GenoM3 1.2: the task
+    /// wakes again as soon as the work ends) rather than overruns.
+    coalesce: bool,
+    /// Per task: a coalesced tick is pending.
+    late: Vec<bool>,
 }
 
 /// Replays an overrun trace of the timed GenoM3 engine on `c` (read with
@@ -177,7 +182,9 @@ pub fn replay_genom3_timed(
 }
 
 /// Replays a `deadline-miss` trace of the timed GenoM3 engine on `c`: the
-/// rules as [`replay_genom3_timed`], up to the final `violation`, where an
+/// rules as [`replay_genom3_timed`], except that a tick finding its task's
+/// work unfinished is coalesced (the task wakes again as soon as its work
+/// ends, GenoM3 1.2), up to the final `violation`, where an
 /// instance of activity `service` must still be alive (it has not
 /// replied). Ok: how long before the end it was accepted (its age, in ns),
 /// to compare with the deadline.
@@ -221,6 +228,7 @@ fn replay(m: &Machine<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String
         .collect();
     let scope = Sim::new(m, named).closure();
     let mut sim = Sim::new(m, scope);
+    sim.coalesce = !overrun;
     for (k, step) in steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
         let time = step
@@ -280,6 +288,8 @@ impl<'m, 'c> Sim<'m, 'c> {
             runs: Vec::new(),
             now: 0,
             accepted: vec![None; m.activities.len()],
+            coalesce: false,
+            late: vec![false; m.tasks.len()],
         };
         sim.settle(false);
         sim
