@@ -211,3 +211,23 @@ fn response_times_hold_through_coalesced_overruns() {
     let age = replay_genom3_alive(c, 1, trace, "reader").unwrap_or_else(|e| panic!("{e}"));
     assert!(age > deadline && age <= 21 * MS, "{age}");
 }
+
+#[test]
+fn a_validate_that_never_waits_counts_its_wcet() {
+    let r = check_with(
+        "r4_validate_and_codel",
+        &CheckOptions::new().deadline_for("set", 6 * MS - 1),
+    );
+    assert_eq!(worst(&r, "set"), Bound::Exact(6 * MS));
+    let found = misses(&r);
+    assert_eq!(found.len(), 1);
+    // The trace names the codel that waited (the second control codel).
+    let trace = found[0].trace.as_ref().expect("a trace");
+    assert!(
+        trace
+            .steps
+            .iter()
+            .any(|s| s.text.contains("begins `set`'s control codel `r3_set`")),
+        "{trace:#?}"
+    );
+}
