@@ -61,7 +61,8 @@ pub(crate) fn check(
         .diagnostics
         .iter()
         .any(|d| d.severity == Severity::Error && d.code != genom_model::Code::CodelOverrun);
-    if let (true, true, Some(c)) = (options.runs_behaviour(), clean, result.component.take()) {
+    let explore = options.runs_behaviour() && clean;
+    if let Some(c) = result.component.take_if(|_| explore) {
         if let Some(v) = genom_checker::verify_genom3(&c, options, started) {
             result.extend(v.diagnostics);
             result.statistics = Some(v.statistics);

@@ -484,3 +484,14 @@ fn no_termination_speaks_genom3_to_a_genom3_file() {
         "{text}"
     );
 }
+
+/// A static-only check of a GenoM3 file still returns its component (the
+/// exports and the language server read it).
+#[test]
+fn a_static_only_genom3_check_keeps_its_component() {
+    let options = genom_check::CheckOptions::new().behaviour(false);
+    let path = Path::new("tests/fixtures/genom3/response/r1_paused_chain.gen");
+    let r = genom_check::check_path(path, &genom_check::Inputs::default(), &options).unwrap();
+    assert!(r.component.is_some());
+    assert!(r.statistics.is_none(), "nothing was explored");
+}
