@@ -192,7 +192,9 @@ pub(crate) fn timed_network(
     })?;
     Ok((
         net,
-        Some("GenoM3's timed semantics (docs/genom3-semantics.md section 15), one instance per activity as genom-check's --max-instances 1"),
+        Some(
+            "GenoM3's timed semantics (docs/genom3-semantics.md section 15), one instance per activity as genom-check's --max-instances 1",
+        ),
     ))
 }
 

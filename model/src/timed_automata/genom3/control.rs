@@ -113,14 +113,14 @@ impl Builder<'_> {
             description: "the control thread: requests and control codels".to_owned(),
         };
         let running = is(self.phase, RUN);
-        let acts: Vec<(usize, ServiceId)> = self
-            .r
-            .slot_of
-            .iter()
-            .map(|(&sid, &a)| (a, sid))
-            .collect();
+        let acts: Vec<(usize, ServiceId)> =
+            self.r.slot_of.iter().map(|(&sid, &a)| (a, sid)).collect();
         for (a, sid) in acts {
-            let guard = Expr::and([running.clone(), is(self.slots[a].st, 0), self.admissible(sid)]);
+            let guard = Expr::and([
+                running.clone(),
+                is(self.slots[a].st, 0),
+                self.admissible(sid),
+            ]);
             self.request(&mut p, sid, guard, Job::Accept(a));
         }
         for k in 0..self.r.controls.len() {
@@ -133,7 +133,10 @@ impl Builder<'_> {
                         0,
                         0,
                         "request",
-                        Expr::and([guard.clone(), Expr::within(&Expr::var(self.slots[a].st), 1, 3)]),
+                        Expr::and([
+                            guard.clone(),
+                            Expr::within(&Expr::var(self.slots[a].st), 1, 3),
+                        ]),
                         format!("abort_activity on {}", self.r.slots[a].name),
                     );
                     edge.statements = vec![Stmt::Local(e.clone(), Expr::int(0))];
@@ -167,7 +170,13 @@ impl Builder<'_> {
         };
         let codels = self.r.ctl_codels.get(&sid).cloned().unwrap_or_default();
         let first = p.locations.len();
-        let mut r = self.ctl_edge(0, first, "request", guard, format!("request {name}: its control codels run"));
+        let mut r = self.ctl_edge(
+            0,
+            first,
+            "request",
+            guard,
+            format!("request {name}: its control codels run"),
+        );
         r.statements = vec![set(self.cph, self.cph_value(sid, 0, false))];
         p.edges.push(r);
         for (n, &j) in timed.iter().enumerate() {
@@ -221,7 +230,8 @@ impl Builder<'_> {
                 ok.statements.push(set(self.cph, 0));
                 ok.statements.extend(self.effect(job));
             } else {
-                ok.statements.push(set(self.cph, self.cph_value(sid, n + 1, false)));
+                ok.statements
+                    .push(set(self.cph, self.cph_value(sid, n + 1, false)));
             }
             p.edges.push(ok);
             let mut fail = self.ctl_edge(
@@ -239,11 +249,7 @@ impl Builder<'_> {
     /// The value of `cph` at the `n`-th timed control codel of `sid`,
     /// waiting or running.
     fn cph_value(&self, sid: ServiceId, n: usize, running: bool) -> i64 {
-        let before: usize = self
-            .timed_ctl
-            .range(..sid)
-            .map(|(_, v)| v.len())
-            .sum();
+        let before: usize = self.timed_ctl.range(..sid).map(|(_, v)| v.len()).sum();
         idx(2 * (before + n) + 1 + usize::from(running))
     }
 

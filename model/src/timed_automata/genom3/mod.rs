@@ -67,7 +67,10 @@ pub enum Genom3NetworkError {
 /// Event names and what they do.
 const EVENTS: [(&str, &str); 9] = [
     ("tick", "a periodic task's tick"),
-    ("overrun", "a tick finds the previous wake-up's work unfinished"),
+    (
+        "overrun",
+        "a tick finds the previous wake-up's work unfinished",
+    ),
     ("wake", "an aperiodic task is activated"),
     ("begin", "a task begins a codel"),
     ("finish", "a task's codel ends with one of its outcomes"),
@@ -383,7 +386,10 @@ impl<'a> Builder<'a> {
                     &format!("cont_{}", task.name),
                     1,
                     task.span,
-                    format!("task {} made an unpaused transition in this sweep", task.name),
+                    format!(
+                        "task {} made an unpaused transition in this sweep",
+                        task.name
+                    ),
                 ),
                 busy: self.int(
                     &format!("busy_{}", task.name),
@@ -413,9 +419,9 @@ impl<'a> Builder<'a> {
     fn declare_slots(&mut self) {
         for i in 0..self.r.slots.len() {
             let slot = self.r.slots[i].clone();
-            let span = slot
-                .service
-                .map_or(self.r.tasks[slot.task].span, |s| self.c.services[s].name.span);
+            let span = slot.service.map_or(self.r.tasks[slot.task].span, |s| {
+                self.c.services[s].name.span
+            });
             let n = &slot.name;
             let states = i64::try_from(slot.fsm.states.len().max(1) - 1).unwrap_or(0);
             let v = SlotVars {

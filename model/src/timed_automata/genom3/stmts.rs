@@ -171,7 +171,11 @@ impl Builder<'_> {
     pub(super) fn spawned(&self, t: usize) -> Expr {
         Expr::or([
             Expr::ne(v(self.phase), Expr::int(super::BOOT)),
-            Expr::cmp(crate::timed_automata::CmpOp::Ge, v(self.booted), Expr::int(idx(t))),
+            Expr::cmp(
+                crate::timed_automata::CmpOp::Ge,
+                v(self.booted),
+                Expr::int(idx(t)),
+            ),
         ])
     }
 
@@ -198,7 +202,10 @@ impl Builder<'_> {
             when(&mut body, Expr::within(&v(s.st), 1, 2), inner);
         }
         if body.len() > 1 {
-            out.push(Stmt::While(Expr::eq(Expr::Local(e.to_owned()), Expr::int(1)), body));
+            out.push(Stmt::While(
+                Expr::eq(Expr::Local(e.to_owned()), Expr::int(1)),
+                body,
+            ));
         }
         out.extend(self.shutdown());
         out
@@ -237,11 +244,7 @@ impl Builder<'_> {
             }
             booted += 1;
         }
-        let phase = if booted >= n {
-            super::RUN
-        } else {
-            super::BOOT
-        };
+        let phase = if booted >= n { super::RUN } else { super::BOOT };
         (idx(booted), phase)
     }
 
@@ -274,10 +277,7 @@ impl Builder<'_> {
         let mut ended = vec![is(self.pstop, idx(n))];
         for t in 0..n {
             match self.r.tasks[t].perm {
-                Some(p) => ended.push(Expr::and([
-                    is(self.pstop, idx(t)),
-                    is(self.slots[p].st, 0),
-                ])),
+                Some(p) => ended.push(Expr::and([is(self.pstop, idx(t)), is(self.slots[p].st, 0)])),
                 None => ended.push(is(self.pstop, idx(t))),
             }
         }

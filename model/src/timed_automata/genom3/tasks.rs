@@ -13,8 +13,8 @@
 //! shutdown killed.
 
 use crate::timed_automata::{
-    ClockConstraint, CmpOp, Edge, Expr, Label, LabelKind, Location, LocationId, Process,
-    ProcessId, ProcessKind, Stmt,
+    ClockConstraint, CmpOp, Edge, Expr, Label, LabelKind, Location, LocationId, Process, ProcessId,
+    ProcessKind, Stmt,
 };
 
 use super::read::KeyOwner;
@@ -177,7 +177,13 @@ impl Builder<'_> {
             if from == 1 {
                 guard.push(Expr::negation(self.unfinished(t)));
             }
-            let mut k = self.edge(from, 1, "tick", Expr::and(guard), format!("task {name}'s {what}"));
+            let mut k = self.edge(
+                from,
+                1,
+                "tick",
+                Expr::and(guard),
+                format!("task {name}'s {what}"),
+            );
             k.clock_guard = vec![cc(x, CmpOp::Eq, at)];
             k.statements = vec![Stmt::Local(e.clone(), Expr::int(0)), Stmt::Reset(x)];
             let mut body = self.sweep(t, true, &e);
@@ -191,7 +197,13 @@ impl Builder<'_> {
     /// The overrun edges from `idle`: at the tick, with due work, nothing
     /// urgent, and either no other thread running a codel or one running
     /// below its WCET (at its WCET it ends first, at the same instant).
-    fn idle_overruns(&mut self, t: usize, x: crate::timed_automata::ClockId, per: i64, p: &mut Process) {
+    fn idle_overruns(
+        &mut self,
+        t: usize,
+        x: crate::timed_automata::ClockId,
+        per: i64,
+        p: &mut Process,
+    ) {
         let name = self.r.tasks[t].name.clone();
         let base = Expr::and([
             self.alive(),
@@ -210,11 +222,16 @@ impl Builder<'_> {
             let (running, clock) = match key.task {
                 Some(u) if u == t => continue,
                 Some(u) => (
-                    Expr::and([is(self.tasks[u].run, idx(k) + 1), Expr::ne(Expr::var(self.tasks[u].cur), Expr::int(0))]),
+                    Expr::and([
+                        is(self.tasks[u].run, idx(k) + 1),
+                        Expr::ne(Expr::var(self.tasks[u].cur), Expr::int(0)),
+                    ]),
                     self.tasks[u].exec,
                 ),
                 None => {
-                    let KeyOwner::Ctl(sid, i) = key.owner else { continue };
+                    let KeyOwner::Ctl(sid, i) = key.owner else {
+                        continue;
+                    };
                     if !self.timed_ctl.get(&sid).is_some_and(|v| v.contains(&i)) {
                         continue;
                     }
@@ -228,7 +245,13 @@ impl Builder<'_> {
             variants.push((running, cg));
         }
         for (g, mut cg) in variants {
-            let mut o = self.edge(1, 2, "overrun", Expr::and([base.clone(), g]), format!("task {name}'s tick finds its work unfinished"));
+            let mut o = self.edge(
+                1,
+                2,
+                "overrun",
+                Expr::and([base.clone(), g]),
+                format!("task {name}'s tick finds its work unfinished"),
+            );
             cg.push(cc(x, CmpOp::Eq, per));
             o.clock_guard = cg;
             p.edges.push(o);
@@ -280,7 +303,13 @@ impl Builder<'_> {
             description: format!("{} runs its codel of state {}", slot.name, st.name),
         });
         let here = format!("{} {}", slot.name, st.name);
-        let mut b = self.edge(1, at, "begin", self.begin_guard(i, s), format!("{here}: begins"));
+        let mut b = self.edge(
+            1,
+            at,
+            "begin",
+            self.begin_guard(i, s),
+            format!("{here}: begins"),
+        );
         b.urgent = true;
         b.statements = vec![
             set(self.slots[i].due, 0),
@@ -292,7 +321,13 @@ impl Builder<'_> {
         p.edges.push(b);
         let live = Expr::and([self.alive(), self.busy(i)]);
         for o in 0..=st.yields.len() {
-            let mut e = self.edge(at, 1, "finish", live.clone(), format!("{here}: ends, {}", outcome(&slot, &st, o)));
+            let mut e = self.edge(
+                at,
+                1,
+                "finish",
+                live.clone(),
+                format!("{here}: ends, {}", outcome(&slot, &st, o)),
+            );
             if lower > 0 {
                 e.clock_guard = vec![cc(tv.exec, CmpOp::Ge, lower)];
             }
@@ -301,7 +336,13 @@ impl Builder<'_> {
             p.edges.push(e);
         }
         if let Some((x, per, _)) = tv.period {
-            let mut o = self.edge(at, 2, "overrun", live, format!("{here}: the tick comes before its end"));
+            let mut o = self.edge(
+                at,
+                2,
+                "overrun",
+                live,
+                format!("{here}: the tick comes before its end"),
+            );
             o.clock_guard = vec![cc(x, CmpOp::Eq, per)];
             if let Some(w) = upper {
                 o.clock_guard.push(cc(tv.exec, CmpOp::Lt, w));
@@ -309,7 +350,13 @@ impl Builder<'_> {
             p.edges.push(o);
         }
         if slot.service.is_none() {
-            let mut d = self.edge(at, 1, "drop", is(tv.cur, 0), format!("{here}: killed by the shutdown"));
+            let mut d = self.edge(
+                at,
+                1,
+                "drop",
+                is(tv.cur, 0),
+                format!("{here}: killed by the shutdown"),
+            );
             d.urgent = true;
             d.statements = vec![set(tv.busy, 0), set(tv.run, 0)];
             p.edges.push(d);
@@ -320,7 +367,9 @@ impl Builder<'_> {
         let base = super::sanitize(want);
         let mut name = base.clone();
         let mut k = 2;
-        while p.locations.iter().any(|l| l.name == name) || matches!(name.as_str(), "sleep" | "idle" | "overrun") {
+        while p.locations.iter().any(|l| l.name == name)
+            || matches!(name.as_str(), "sleep" | "idle" | "overrun")
+        {
             name = format!("{base}_{k}");
             k += 1;
         }
@@ -349,15 +398,28 @@ impl Builder<'_> {
                 if !pause {
                     out.push(set(tv.cont, 1));
                 }
-                let landed = vec![set(sv.q, idx(next)), set(sv.pz, i64::from(pause)), set(sv.fl, 0)];
+                let landed = vec![
+                    set(sv.q, idx(next)),
+                    set(sv.pz, i64::from(pause)),
+                    set(sv.fl, 0),
+                ];
                 if perm {
                     out.extend(landed);
                 } else {
                     let stop = match slot.fsm.stop {
-                        Some(stop) => vec![set(sv.st, 4), set(sv.q, idx(stop)), set(sv.pz, 0), set(sv.fl, 0)],
+                        Some(stop) => vec![
+                            set(sv.st, 4),
+                            set(sv.q, idx(stop)),
+                            set(sv.pz, 0),
+                            set(sv.fl, 0),
+                        ],
                         None => self.end_slot(i, false, &e),
                     };
-                    out.push(Stmt::If(Expr::and([is(sv.fl, 1), is(sv.st, 3)]), stop, landed));
+                    out.push(Stmt::If(
+                        Expr::and([is(sv.fl, 1), is(sv.st, 3)]),
+                        stop,
+                        landed,
+                    ));
                 }
             }
             Some((None, _)) => out.extend(self.end_slot(i, true, &e)),
@@ -372,7 +434,10 @@ impl Builder<'_> {
             Stmt::push_if(
                 &mut out,
                 Expr::eq(Expr::Local(b), Expr::int(1)),
-                vec![Stmt::set(self.booted, Expr::add([Expr::var(self.booted), Expr::int(1)]))],
+                vec![Stmt::set(
+                    self.booted,
+                    Expr::add([Expr::var(self.booted), Expr::int(1)]),
+                )],
                 Vec::new(),
             );
         }
