@@ -262,6 +262,12 @@ fn the_network_agrees_with_the_timed_engine_on_the_timing_fixtures() {
         );
         assert!(reach.complete, "{}: {} states", case.name, reach.states);
         tally.components += 1;
+        let overruns: Vec<&String> = reach
+            .labels
+            .iter()
+            .filter(|l| l.starts_with("overrun_"))
+            .collect();
+        println!("{}: {} states, {overruns:?}", case.name, reach.states);
         for label in &net.labels {
             let Some(expected) = v.expects(c, label) else {
                 continue;
