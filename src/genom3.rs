@@ -62,9 +62,10 @@ pub(crate) fn check(
         .iter()
         .any(|d| d.severity == Severity::Error && d.code != genom_model::Code::CodelOverrun);
     if let (true, true, Some(c)) = (options.runs_behaviour(), clean, result.component.take()) {
-        if let Some((found, stats)) = genom_checker::verify_genom3(&c, options, started) {
-            result.extend(found);
-            result.statistics = Some(stats);
+        if let Some(v) = genom_checker::verify_genom3(&c, options, started) {
+            result.extend(v.diagnostics);
+            result.statistics = Some(v.statistics);
+            result.response_times = v.response_times;
         }
         result.component = Some(c);
     }

@@ -83,11 +83,12 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
     }
 }
 
-/// A `--deadline` naming a service that a checked LANGUAGE.md component
-/// does not have: the usage error to print (with the closest name).
+/// A `--deadline` naming a service that a checked component (either
+/// dialect) does not have: the usage error to print (with the closest
+/// name).
 fn unknown_deadline(args: &CheckArgs, results: &[(String, CheckResult)]) -> Option<String> {
     for (path, r) in results {
-        let Some(c) = r.component.as_ref().filter(|_| r.dialect == Dialect::Gen) else {
+        let Some(c) = r.component.as_ref() else {
             continue;
         };
         let names: Vec<&str> = c.services.values().map(|s| s.name.name.as_str()).collect();
