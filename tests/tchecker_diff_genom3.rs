@@ -46,6 +46,8 @@ use genom_model::component::genom3::FsmCodel;
 use genom_model::timed_automata::{Label, LabelKind, Network};
 
 const TIMING: &str = "tests/fixtures/genom3/timing";
+const RESPONSE: &str = "tests/fixtures/genom3/response";
+const SEMANTICS: &str = "tests/fixtures/genom3/semantics";
 const WCETS: &str = "tests/fixtures/genom3/wcet";
 const STUBS: &str = "tests/fixtures/genom3/include";
 
@@ -63,22 +65,33 @@ const TCK_TIMEOUT: Duration = Duration::from_secs(60);
 struct Case {
     name: String,
     source: PathBuf,
-    wcet: PathBuf,
+    /// Its WCET file (`None`: untimed, only codel labels are compared).
+    wcet: Option<PathBuf>,
 }
 
-fn fixtures() -> Vec<Case> {
-    let mut out: Vec<Case> = std::fs::read_dir(TIMING)
-        .expect("the timing fixtures")
+/// The fixtures of a folder (with their WCET files when `timed`).
+fn fixtures_in(dir: &str, timed: bool) -> Vec<Case> {
+    let mut out: Vec<Case> = std::fs::read_dir(dir)
+        .expect("the fixtures")
         .map(|e| e.expect("an entry").path())
         .filter(|p| p.extension().is_some_and(|x| x == "gen"))
         .map(|source| Case {
             name: source.file_stem().unwrap().to_string_lossy().into_owned(),
-            wcet: source.with_extension("wcet"),
+            wcet: timed.then(|| source.with_extension("wcet")),
             source,
         })
         .collect();
     out.sort_by(|a, b| a.name.cmp(&b.name));
-    assert!(out.len() >= 10, "the timing fixtures are there");
+    assert!(!out.is_empty(), "the fixtures of {dir} are there");
+    out
+}
+
+/// The timed fixtures (timing and response times), then the untimed
+/// semantics fixtures (codel labels only).
+fn fixtures() -> Vec<Case> {
+    let mut out = fixtures_in(TIMING, true);
+    out.extend(fixtures_in(RESPONSE, true));
+    out.extend(fixtures_in(SEMANTICS, false));
     out
 }
 
@@ -92,7 +105,7 @@ fn corpus() -> Vec<Case> {
             let source = dir.join(source);
             source.is_file().then(|| Case {
                 name: source.file_stem().unwrap().to_string_lossy().into_owned(),
-                wcet: Path::new(WCETS).join(wcet),
+                wcet: Some(Path::new(WCETS).join(wcet)),
                 source,
             })
         })
@@ -101,7 +114,7 @@ fn corpus() -> Vec<Case> {
 
 fn check(case: &Case) -> CheckResult {
     let inputs = Inputs {
-        wcet_file: Some(case.wcet.clone()),
+        wcet_file: case.wcet.clone(),
         include_dirs: vec![PathBuf::from(STUBS)],
         ..Inputs::default()
     };
@@ -113,6 +126,8 @@ fn check(case: &Case) -> CheckResult {
 
 /// genom-check's verdict on each label (`None`: no verdict).
 struct Verdicts {
+    /// Whether the timed engine ran (a WCET file).
+    timed: bool,
     overrun: BTreeSet<String>,
     dead: BTreeSet<String>,
     unreachable: Vec<String>,
@@ -120,9 +135,10 @@ struct Verdicts {
 }
 
 impl Verdicts {
-    fn of(r: &CheckResult) -> Verdicts {
+    fn of(r: &CheckResult, timed: bool) -> Verdicts {
         let name = |m: &str| m.split('`').nth(1).unwrap_or_default().to_owned();
         let mut v = Verdicts {
+            timed,
             overrun: BTreeSet::new(),
             dead: BTreeSet::new(),
             unreachable: Vec::new(),
@@ -146,7 +162,9 @@ impl Verdicts {
 
     fn expects(&self, c: &Component, label: &Label) -> Option<bool> {
         match label.kind {
-            LabelKind::Overrun(t) => Some(self.overrun.contains(&c.threads[t].name.name)),
+            LabelKind::Overrun(t) => self
+                .timed
+                .then(|| self.overrun.contains(&c.threads[t].name.name)),
             LabelKind::Codel(k) => {
                 let codel = &c.codels[k];
                 let service = &c.services[codel.service].name.name;
@@ -238,7 +256,7 @@ fn word(b: bool) -> &'static str {
 /// check is incomplete.
 fn prepare(case: &Case) -> Option<(CheckResult, Verdicts, Network)> {
     let r = check(case);
-    let v = Verdicts::of(&r);
+    let v = Verdicts::of(&r, case.wcet.is_some());
     if v.incomplete {
         return None;
     }

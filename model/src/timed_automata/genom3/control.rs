@@ -207,7 +207,7 @@ impl Builder<'_> {
                 wait,
                 run,
                 "cbegin",
-                Expr::and([self.alive(), self.lock_free(codel.key, None)]),
+                self.ctl_may_begin(codel.key),
                 format!("{name}: control codel {} begins", codel.name),
             );
             b.urgent = true;
@@ -246,6 +246,29 @@ impl Builder<'_> {
         }
     }
 
+    /// Control codel `k` may begin: its locks are free, and no idle task
+    /// has a due codel it conflicts with (that codel's ticket in GenoM3's
+    /// FIFO comes first, 8.3).
+    fn ctl_may_begin(&self, k: usize) -> Expr {
+        let mut c = vec![self.alive(), self.lock_free(k, None)];
+        for (i, slot) in self.r.slots.iter().enumerate() {
+            let tv = self.tasks[slot.task];
+            for (s, st) in slot.fsm.states.iter().enumerate() {
+                let j = st.key;
+                if !self.r.keys[j].excl.contains(&k) && !self.r.keys[k].excl.contains(&j) {
+                    continue;
+                }
+                let sv = self.slots[i];
+                c.push(Expr::negation(Expr::and([
+                    is(tv.busy, 0),
+                    is(sv.due, 1),
+                    is(sv.q, idx(s)),
+                ])));
+            }
+        }
+        Expr::and(c)
+    }
+
     /// The value of `cph` at the `n`-th timed control codel of `sid`,
     /// waiting or running.
     fn cph_value(&self, sid: ServiceId, n: usize, running: bool) -> i64 {
@@ -273,8 +296,7 @@ impl Builder<'_> {
             for (n, &j) in timed.iter().enumerate() {
                 any.push(Expr::and([
                     is(self.cph, self.cph_value(sid, n, false)),
-                    self.alive(),
-                    self.lock_free(codels[j].key, None),
+                    self.ctl_may_begin(codels[j].key),
                 ]));
             }
         }
