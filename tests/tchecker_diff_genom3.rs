@@ -300,6 +300,45 @@ fn the_network_agrees_with_the_timed_engine_on_the_timing_fixtures() {
     assert!(tally.problems.is_empty(), "{text}");
 }
 
+/// The interpreter on the small corpus components (slow: run with
+/// `--ignored`).
+#[test]
+#[ignore = "explores the corpus components' networks: minutes"]
+fn the_network_agrees_with_the_timed_engine_on_the_small_corpus_components() {
+    let mut tally = Tally::default();
+    for case in corpus() {
+        let Some((r, v, net)) = prepare(&case) else {
+            tally.skipped.push(format!("{} (genom-check incomplete)", case.name));
+            continue;
+        };
+        let c = r.component.as_ref().unwrap();
+        let started = Instant::now();
+        let reach = ta_sim::explore(&net, 5_000_000);
+        println!(
+            "{}: {} states in {:.1?}, complete {}",
+            case.name,
+            reach.states,
+            started.elapsed(),
+            reach.complete
+        );
+        assert!(reach.problems.is_empty(), "{}: {:?}", case.name, reach.problems);
+        if !reach.complete {
+            tally.skipped.push(format!("{} (interpreter limit)", case.name));
+            continue;
+        }
+        tally.components += 1;
+        for label in &net.labels {
+            if let Some(expected) = v.expects(c, label) {
+                let got = reach.labels.contains(&label.name);
+                tally.record(&case.name, &label.name, expected, Ok(got));
+            }
+        }
+    }
+    let text = tally.report("interpreter, corpus");
+    println!("{text}");
+    assert!(tally.problems.is_empty(), "{text}");
+}
+
 /// What `tck-reach` says about one label.
 fn tck(tck: &Path, algo: &str, model: &Path, label: &str) -> Result<Option<bool>, String> {
     let mb = std::env::var("TCK_MEMORY_MB").ok().map_or(2048, |s| {
