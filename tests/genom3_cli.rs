@@ -472,3 +472,28 @@ fn every_real_component_of_the_corpus_checks_without_error() {
         assert_eq!(status, 0, "{shown}: {report:#}");
     }
 }
+
+#[test]
+fn no_termination_speaks_genom3_to_a_genom3_file() {
+    let (status, file) = json(&[
+        "--static-only",
+        "tests/fixtures/genom3/response/r3_function_lock.gen",
+    ]);
+    assert_eq!(status, 0);
+    let found: Vec<&Value> = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["code"] == "no-termination")
+        .collect();
+    assert_eq!(found.len(), 1, "{file:#}");
+    let text = found[0].to_string();
+    assert!(
+        text.contains("activity `watch`") && text.contains("`ether`"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("`next`") && !text.contains("max-time"),
+        "{text}"
+    );
+}

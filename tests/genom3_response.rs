@@ -20,13 +20,20 @@ use genom_model::trace::Event;
 const DIR: &str = "tests/fixtures/genom3/response";
 const MS: u64 = 1_000_000;
 
-fn check_with(name: &str, options: &CheckOptions) -> CheckResult {
-    let path = Path::new(DIR).join(format!("{name}.gen"));
+const TIMING: &str = "tests/fixtures/genom3/timing";
+
+/// Checks `DIR/name.gen` with its WCET file `DIR/name.wcet`.
+fn check_in(dir: &str, name: &str, options: &CheckOptions) -> CheckResult {
+    let path = Path::new(dir).join(format!("{name}.gen"));
     let inputs = Inputs {
-        wcet_file: Some(PathBuf::from(DIR).join(format!("{name}.wcet"))),
+        wcet_file: Some(PathBuf::from(dir).join(format!("{name}.wcet"))),
         ..Inputs::default()
     };
     check_path(&path, &inputs, options).unwrap()
+}
+
+fn check_with(name: &str, options: &CheckOptions) -> CheckResult {
+    check_in(DIR, name, options)
 }
 
 fn worst(r: &CheckResult, service: &str) -> Bound {
@@ -174,14 +181,11 @@ fn a_deadline_naming_no_service_is_a_usage_error() {
 /// `servo` twice (17 ms).
 #[test]
 fn a_waiting_control_thread_keeps_its_place_in_the_lock_queue() {
-    let path = Path::new("tests/fixtures/genom3/timing/f7_control_lock.gen");
-    let inputs = Inputs {
-        wcet_file: Some(PathBuf::from(
-            "tests/fixtures/genom3/timing/f7_control_lock.wcet",
-        )),
-        ..Inputs::default()
-    };
-    let r = check_path(path, &inputs, &CheckOptions::new().response_times(true)).unwrap();
+    let r = check_in(
+        TIMING,
+        "f7_control_lock",
+        &CheckOptions::new().response_times(true),
+    );
     assert_eq!(worst(&r, "set_speed"), Bound::Exact(11 * MS));
     assert_eq!(worst(&r, "servo"), Bound::Unbounded);
     // The schedulability verdict is unchanged: `t` overruns.
@@ -193,16 +197,9 @@ fn a_waiting_control_thread_keeps_its_place_in_the_lock_queue() {
 /// 10 + 9 + 2 = 21 ms; `u` overruns meanwhile, its tick coalesced.
 #[test]
 fn response_times_hold_through_coalesced_overruns() {
-    let path = Path::new("tests/fixtures/genom3/timing/f3_permanent_lock.gen");
-    let inputs = Inputs {
-        wcet_file: Some(PathBuf::from(
-            "tests/fixtures/genom3/timing/f3_permanent_lock.wcet",
-        )),
-        ..Inputs::default()
-    };
     let deadline = 21 * MS - 1;
     let options = CheckOptions::new().deadline_for("reader", deadline);
-    let r = check_path(path, &inputs, &options).unwrap();
+    let r = check_in(TIMING, "f3_permanent_lock", &options);
     assert_eq!(worst(&r, "reader"), Bound::Exact(21 * MS));
     let found = misses(&r);
     assert_eq!(found.len(), 1);
@@ -210,4 +207,24 @@ fn response_times_hold_through_coalesced_overruns() {
     let c = r.component.as_ref().unwrap();
     let age = replay_genom3_alive(c, 1, trace, "reader").unwrap_or_else(|e| panic!("{e}"));
     assert!(age > deadline && age <= 21 * MS, "{age}");
+}
+
+#[test]
+fn a_validate_that_never_waits_counts_its_wcet() {
+    let r = check_with(
+        "r4_validate_and_codel",
+        &CheckOptions::new().deadline_for("set", 6 * MS - 1),
+    );
+    assert_eq!(worst(&r, "set"), Bound::Exact(6 * MS));
+    let found = misses(&r);
+    assert_eq!(found.len(), 1);
+    // The trace names the codel that waited (the second control codel).
+    let trace = found[0].trace.as_ref().expect("a trace");
+    assert!(
+        trace
+            .steps
+            .iter()
+            .any(|s| s.text.contains("begins `set`'s control codel `r3_set`")),
+        "{trace:#?}"
+    );
 }

@@ -177,12 +177,12 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
 /// A control codel beginning or ending.
 fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep {
     let m = te.m();
-    let job = before.ctl.map(|c| (c.job, usize::from(c.phase)));
-    let sid = job.and_then(|(j, _)| te.job_service(j));
+    let sid = before.ctl.and_then(|c| te.job_service(c.job));
     let name = sid.map_or("", |s| m.service_name(s));
+    // The phase counts the codels that take time; `job_codel` says which.
     let st = sid
-        .zip(job)
-        .and_then(|(s, (_, p))| m.control_codels.get(&s)?.get(p));
+        .zip(before.ctl.and_then(|c| te.job_codel(c)))
+        .and_then(|(s, i)| m.control_codels.get(&s)?.get(i));
     let codel = st.map_or(String::new(), |x| x.name.clone());
     let function = st.map_or(String::new(), |x| x.function.clone());
     let (event, text, outcome) = match a {
