@@ -155,12 +155,12 @@ fn max_instances_explores_more_instances_with_the_same_verdicts() {
 
 #[test]
 fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
-    // Verified (untimed) and clean, but the UPPAAL model would have
+    // Verified (untimed) and clean, but the Fiacre model would have
     // LANGUAGE.md's semantics: refused, allowed only marked unverified.
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("demo.xml");
+    let out = dir.path().join("demo.fcr");
     let refused = genom_check()
-        .args(["export", "uppaal", DEMO, "-o"])
+        .args(["export", "fiacre", DEMO, "-o"])
         .arg(&out)
         .output()
         .unwrap();
@@ -169,11 +169,24 @@ fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_are_not() {
     assert!(stderr.contains("not GenoM3's"), "{stderr}");
     assert!(!out.exists());
     let marked = genom_check()
-        .args(["export", "uppaal", "--allow-unverified", DEMO, "-o"])
+        .args(["export", "fiacre", "--allow-unverified", DEMO, "-o"])
         .arg(&out)
         .output()
         .unwrap();
     assert_eq!(marked.status.code(), Some(0));
+    // The timed-automata exports print GenoM3's own timed semantics.
+    for (format, file) in [("uppaal", "demo.xml"), ("tchecker", "demo.tck")] {
+        let path = dir.path().join(file);
+        let done = genom_check()
+            .args(["export", format, DEMO, "-o"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert_eq!(done.status.code(), Some(0), "{format}: {done:?}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("GenoM3's timed semantics"), "{format}");
+        assert!(!text.contains(genom_export::UNVERIFIED), "{format}");
+    }
     // A diagram draws structure only: exported as verified.
     let dot = dir.path().join("demo.dot");
     let drawn = genom_check()

@@ -134,9 +134,11 @@ fn format(f: ExportFormat) -> Format {
 
 /// Whether the export would model a GenoM3 component with LANGUAGE.md's
 /// semantics (every behavioural format; the diagrams only draw structure).
+/// The timed-automata exports model GenoM3's own timed semantics.
 fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
     result.dialect == genom_model::Dialect::Genom3
         && !matches!(args.target, ExportFormat::Dot | ExportFormat::Svg)
+        && !matches!(args.target, ExportFormat::Tchecker | ExportFormat::Uppaal)
 }
 
 /// What the check established.
