@@ -102,9 +102,10 @@ pub struct CheckArgs {
     #[command(flatten)]
     pub input: InputArgs,
 
-    /// Stop exploring after this many states (then `incomplete`).
-    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
-    pub max_states: usize,
+    /// Stop exploring after this many states (then `incomplete`)
+    /// [default: 10000000, or `genom-check.toml`'s].
+    #[arg(long, value_name = "N")]
+    pub max_states: Option<usize>,
 
     /// Stop exploring after this long, e.g. `30s`, `500ms`, `2min` (then `incomplete`).
     #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
@@ -113,6 +114,11 @@ pub struct CheckArgs {
     /// Bound the process's memory, e.g. `512M`, `4G` (then `incomplete`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
     pub max_memory: usize,
+
+    /// The configuration file to use instead of the nearest
+    /// `genom-check.toml` above each checked file (docs/configuration.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 
     /// Run only the static checks (no state-space exploration).
     #[arg(long)]
@@ -126,10 +132,9 @@ pub struct CheckArgs {
 
     /// GenoM3: explore up to N instances of one activity at once (at most 31,
     /// GenoM3's slots per task). One gives the untimed verdicts exactly;
-    /// more only cross-checks that.
-    #[arg(long, value_name = "N", default_value_t = genom_checker::DEFAULT_MAX_INSTANCES,
-          value_parser = parse_instances)]
-    pub max_instances: usize,
+    /// more only cross-checks that [default: 1, or `genom-check.toml`'s].
+    #[arg(long, value_name = "N", value_parser = parse_instances)]
+    pub max_instances: Option<usize>,
 
     /// A deadline for a service's worst-case response time (from its
     /// acknowledgment to its final reply), e.g. `Move=50ms`; a later worst
@@ -187,7 +192,7 @@ pub enum DialectArg {
 }
 
 /// Parses `30s`, `500ms`, `2min`, `1.5s` with the language's duration units.
-fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
+pub(crate) fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
     let t = text.trim();
     // The language's own literals first (`10ms`, `2min`), then the usual
     // forms (`1h`, `1h 30m`, `90sec`).
@@ -226,7 +231,7 @@ fn parse_deadline(text: &str) -> Result<(String, u64), String> {
 
 /// Parses `--max-instances`: 1 to 31 (GenoM3's slots per task less the
 /// permanent activity).
-fn parse_instances(text: &str) -> Result<usize, String> {
+pub(crate) fn parse_instances(text: &str) -> Result<usize, String> {
     let max = genom_checker::genom3::POOL - 1;
     match text.trim().parse::<usize>() {
         Ok(n) if (1..=max).contains(&n) => Ok(n),

@@ -61,15 +61,14 @@ pub(crate) fn check(
         .diagnostics
         .iter()
         .any(|d| d.severity == Severity::Error && d.code != genom_model::Code::CodelOverrun);
-    // (Taken only when the engines run: a static-only check keeps it.)
-    if let (true, true) = (options.runs_behaviour(), clean) {
-        if let Some(c) = result.component.take() {
-            if let Some((found, stats)) = genom_checker::verify_genom3(&c, options, started) {
-                result.extend(found);
-                result.statistics = Some(stats);
-            }
-            result.component = Some(c);
+    let explore = options.runs_behaviour() && clean;
+    if let Some(c) = result.component.take_if(|_| explore) {
+        if let Some(v) = genom_checker::verify_genom3(&c, options, started) {
+            result.extend(v.diagnostics);
+            result.statistics = Some(v.statistics);
+            result.response_times = v.response_times;
         }
+        result.component = Some(c);
     }
     Ok(result)
 }

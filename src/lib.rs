@@ -9,5 +9,5 @@ mod pipeline;
 
 pub use pipeline::{
     CheckOptions, CheckResult, InputError, Inputs, check_file, check_path, check_source, detect,
-    display,
+    display, is_stdin,
 };

@@ -8,6 +8,8 @@
 mod allocator;
 mod cli;
 mod commands;
+mod config;
+mod suppress;
 mod terminal;
 
 use std::process::ExitCode;

@@ -155,12 +155,12 @@ fn max_instances_explores_more_instances_with_the_same_verdicts() {
 
 #[test]
 fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_are_not() {
-    // Verified (untimed) and clean, but the UPPAAL model would have
+    // Verified (untimed) and clean, but the Fiacre model would have
     // LANGUAGE.md's semantics: refused, allowed only marked unverified.
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("demo.xml");
+    let out = dir.path().join("demo.fcr");
     let refused = genom_check()
-        .args(["export", "uppaal", DEMO, "-o"])
+        .args(["export", "fiacre", DEMO, "-o"])
         .arg(&out)
         .output()
         .unwrap();
@@ -169,11 +169,24 @@ fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_ar
     assert!(stderr.contains("not GenoM3's"), "{stderr}");
     assert!(!out.exists());
     let marked = genom_check()
-        .args(["export", "uppaal", "--allow-unverified", DEMO, "-o"])
+        .args(["export", "fiacre", "--allow-unverified", DEMO, "-o"])
         .arg(&out)
         .output()
         .unwrap();
     assert_eq!(marked.status.code(), Some(0));
+    // The timed-automata exports print GenoM3's own timed semantics.
+    for (format, file) in [("uppaal", "demo.xml"), ("tchecker", "demo.tck")] {
+        let path = dir.path().join(file);
+        let done = genom_check()
+            .args(["export", format, DEMO, "-o"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert_eq!(done.status.code(), Some(0), "{format}: {done:?}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("GenoM3's timed semantics"), "{format}");
+        assert!(!text.contains(genom_export::UNVERIFIED), "{format}");
+    }
     // A diagram draws structure only: exported as verified.
     let dot = dir.path().join("demo.dot");
     let drawn = genom_check()
@@ -469,4 +482,40 @@ fn every_real_component_of_the_corpus_checks_without_error() {
         let (status, report) = json(&["--dialect", "genom3", "--static-only", &shown]);
         assert_eq!(status, 0, "{shown}: {report:#}");
     }
+}
+
+#[test]
+fn no_termination_speaks_genom3_to_a_genom3_file() {
+    let (status, file) = json(&[
+        "--static-only",
+        "tests/fixtures/genom3/response/r3_function_lock.gen",
+    ]);
+    assert_eq!(status, 0);
+    let found: Vec<&Value> = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["code"] == "no-termination")
+        .collect();
+    assert_eq!(found.len(), 1, "{file:#}");
+    let text = found[0].to_string();
+    assert!(
+        text.contains("activity `watch`") && text.contains("`ether`"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("`next`") && !text.contains("max-time"),
+        "{text}"
+    );
+}
+
+/// A static-only check of a GenoM3 file still returns its component (the
+/// exports and the language server read it).
+#[test]
+fn a_static_only_genom3_check_keeps_its_component() {
+    let options = genom_check::CheckOptions::new().behaviour(false);
+    let path = Path::new("tests/fixtures/genom3/response/r1_paused_chain.gen");
+    let r = genom_check::check_path(path, &genom_check::Inputs::default(), &options).unwrap();
+    assert!(r.component.is_some());
+    assert!(r.statistics.is_none(), "nothing was explored");
 }

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use genom_model::component::Component;
+use genom_model::component::{Component, ServiceId};
 use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic, ResponseTime, Severity, Statistics, sort_diagnostics};
 
@@ -116,6 +116,24 @@ impl CheckOptions {
         self
     }
 
+    /// The deadlines of [`CheckOptions::deadline_for`] that name services
+    /// of `c`, by service.
+    pub fn deadline_ids(&self, c: &Component) -> BTreeMap<ServiceId, u64> {
+        self.deadlines
+            .iter()
+            .filter_map(|(name, &ns)| {
+                let s = c.services.iter().find(|(_, s)| &s.name.name == name)?.0;
+                Some((s, ns))
+            })
+            .collect()
+    }
+
+    /// Whether response times are asked for (`--response-times`, or some
+    /// `--deadline`).
+    pub fn wants_response_times(&self) -> bool {
+        self.response_times || !self.deadlines.is_empty()
+    }
+
     /// The deadlines of [`CheckOptions::deadline_for`], by service name.
     pub fn deadlines(&self) -> &BTreeMap<String, u64> {
         &self.deadlines
@@ -203,7 +221,7 @@ pub fn verify(
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);
-            if options.response_times || !options.deadlines.is_empty() {
+            if options.wants_response_times() {
                 let (times, found) = responses(c, options, started, &analysis);
                 response_times = times;
                 diagnostics.extend(found);
@@ -247,14 +265,7 @@ fn responses(
         .max_states
         .saturating_sub(usize::try_from(analysis.states).unwrap_or(usize::MAX))
         .max(1);
-    let deadlines: BTreeMap<_, u64> = options
-        .deadlines
-        .iter()
-        .filter_map(|(name, &ns)| {
-            let s = c.services.iter().find(|(_, s)| &s.name.name == name)?.0;
-            Some((s, ns))
-        })
-        .collect();
+    let deadlines = options.deadline_ids(c);
     let found = crate::timed::response_times(c, limits, &deadlines);
     let times = crate::checks::response_time::response_times(c, &found);
     let diagnostics = crate::checks::response_time::check(c, &found, &times, &deadlines);

@@ -11,22 +11,36 @@ use std::collections::BTreeSet;
 use std::time::Instant;
 
 use genom_model::component::{Component, ServiceId};
-use genom_model::{Diagnostic, Statistics, Trace};
+use genom_model::{Diagnostic, ResponseTime, Statistics, Trace};
 
-use crate::checks::{dead_service, incomplete, livelock, thread_overrun, unreachable_codel};
+use crate::checks::{
+    dead_service, incomplete, livelock, response_time, thread_overrun, unreachable_codel,
+};
 use crate::genom3::steps::Engine;
 use crate::genom3::timed::analysis::analyse_timing;
+use crate::genom3::timed::response::analyse_responses;
 use crate::genom3::trace::refusal;
 use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine, machine::Fsm};
 use crate::verify::CheckOptions;
 
-/// Explores a GenoM3 component; its diagnostics and figures (`None` for a
-/// LANGUAGE.md component).
+/// What the GenoM3 engines found about a component.
+#[derive(Debug, Clone)]
+pub struct Genom3Verdicts {
+    /// The behavioural diagnostics.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The explorations' figures.
+    pub statistics: Statistics,
+    /// Worst-case response times (with `--response-times` or a
+    /// `--deadline`, and WCETs).
+    pub response_times: Vec<ResponseTime>,
+}
+
+/// Explores a GenoM3 component (`None` for a LANGUAGE.md component).
 pub fn verify_genom3(
     c: &Component,
     options: &CheckOptions,
     started: Instant,
-) -> Option<(Vec<Diagnostic>, Statistics)> {
+) -> Option<Genom3Verdicts> {
     let m = Machine::new(c, options.instance_bound())?;
     let analysis = analyse_machine(&m, options.limits(started));
     let mut out = Vec::new();
@@ -63,6 +77,28 @@ pub fn verify_genom3(
             )),
         }
     }
+    let mut response_times = Vec::new();
+    if !gives_timing(&m) {
+        out.extend(
+            options
+                .deadline_ids(c)
+                .into_iter()
+                .map(|(s, ns)| incomplete::deadline_without_wcet(c, s, ns)),
+        );
+    } else if options.wants_response_times() {
+        let deadlines = options.deadline_ids(c);
+        if let Some(r) = analyse_responses(&m, options.limits(started), &deadlines) {
+            response_times = response_time::response_times(c, &r.found);
+            out.extend(response_time::check(
+                c,
+                &r.found,
+                &response_times,
+                &deadlines,
+            ));
+            states += r.states;
+            transitions += r.transitions;
+        }
+    }
     let stats = Statistics {
         states,
         transitions,
@@ -70,7 +106,11 @@ pub fn verify_genom3(
         complete: out.iter().all(|d| d.code != genom_model::Code::Incomplete),
         bytes_per_state: Some(analysis.bytes_per_state),
     };
-    Some((out, stats))
+    Some(Genom3Verdicts {
+        diagnostics: out,
+        statistics: stats,
+        response_times,
+    })
 }
 
 /// Whether some codel has a WCET (from a WCET file).

@@ -17,7 +17,9 @@ pub mod tina;
 pub mod uppaal;
 pub mod verify;
 
+use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
+use genom_model::timed_automata::Network;
 use genom_model::{Counts, SourceMap};
 
 /// An output format of `genom-check export`.
@@ -170,6 +172,31 @@ pub(crate) fn mark_unverified(text: String, verified: bool, comment: (&str, &str
         Some((first, rest)) if first.starts_with("<?xml") => format!("{first}\n{line}{rest}"),
         _ => format!("{line}{text}"),
     }
+}
+
+/// The network of timed automata the `uppaal` and `tchecker` exports
+/// print: for a GenoM3 component, GenoM3's timed semantics
+/// ([`Network::build_genom3`], one instance per activity); otherwise the
+/// LANGUAGE.md zone engine's ([`Network::build`]). The second value, for
+/// a GenoM3 component, says which semantics for the exports' headers.
+pub(crate) fn timed_network(
+    component: &Component,
+    format: &'static str,
+) -> Result<(Network, Option<&'static str>), ExportError> {
+    if component.genom3.is_none() {
+        let net = Network::build(component, &Behaviour::new(component));
+        return Ok((net, None));
+    }
+    let net = Network::build_genom3(component).map_err(|e| ExportError::Unsupported {
+        format,
+        reason: e.to_string(),
+    })?;
+    Ok((
+        net,
+        Some(
+            "GenoM3's timed semantics (docs/genom3-semantics.md section 15), one instance per activity as genom-check's --max-instances 1",
+        ),
+    ))
 }
 
 /// Exports the component in `format`.

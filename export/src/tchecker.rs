@@ -30,7 +30,6 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
-use genom_model::behaviour::Behaviour;
 use genom_model::timed_automata::{
     ClockConstraint, Edge, Expr, LValue, Location, Network, Process, Renaming, Stmt,
 };
@@ -39,9 +38,11 @@ use crate::{ExportError, ExportInput, Exported};
 
 /// Exports the component as a TChecker model.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let c = input.component;
-    let net = Network::build(c, &Behaviour::new(c));
-    let text = render(&net);
+    let (net, semantics) = crate::timed_network(input.component, "tchecker")?;
+    let text = match semantics {
+        Some(s) => render_as(&net, s),
+        None => render(&net),
+    };
     let verified = input.verification.verified;
     Ok(Exported::single(crate::mark_unverified(
         text,
@@ -50,8 +51,14 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     )))
 }
 
-/// The TChecker text of a network.
+/// The TChecker text of a network of the zone engine.
 pub fn render(net: &Network) -> String {
+    render_as(net, "the timed automata of the zone engine")
+}
+
+/// The TChecker text of a network; `semantics` says which one it encodes
+/// (a header comment).
+pub fn render_as(net: &Network, semantics: &str) -> String {
     let mut names = Renaming::new(net, &[]);
     let monitor = Monitor {
         process: names.fresh("urgency"),
@@ -63,6 +70,7 @@ pub fn render(net: &Network) -> String {
         net,
         names,
         monitor,
+        semantics,
     };
     p.text()
 }
@@ -116,6 +124,7 @@ struct Printer<'a> {
     net: &'a Network,
     names: Renaming,
     monitor: Monitor,
+    semantics: &'a str,
 }
 
 impl Printer<'_> {
@@ -137,8 +146,8 @@ impl Printer<'_> {
     fn header(&self) -> String {
         let net = self.net;
         let mut out = format!(
-            "# TChecker model of component {} (genom-check): the timed automata of the zone engine.\n# One time unit is {} ns.\n",
-            net.name, net.unit_ns
+            "# TChecker model of component {} (genom-check): {}.\n# One time unit is {} ns.\n",
+            net.name, self.semantics, net.unit_ns
         );
         out.push_str("# Labels: codel_SERVICE_CODEL (the codel runs), overrun_THREAD (the thread overruns its period),\n# timeout_SERVICE (the service exceeds its max-time). Check one with: tck-reach -a reach -l LABEL FILE\n");
         if !self.names.renamed.is_empty() {

@@ -27,7 +27,6 @@
 
 use std::fmt::Write as _;
 
-use genom_model::behaviour::Behaviour;
 use genom_model::timed_automata::{
     ClockConstraint, Edge, Expr, LValue, LabelKind, Location, Network, Process, ProcessKind,
     Renaming, Stmt,
@@ -37,9 +36,11 @@ use crate::{ExportError, ExportInput, Exported};
 
 /// Exports the component as an UPPAAL model and its queries.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let c = input.component;
-    let net = Network::build(c, &Behaviour::new(c));
-    let mut out = render(&net);
+    let (net, semantics) = crate::timed_network(input.component, "uppaal")?;
+    let mut out = match semantics {
+        Some(s) => render_as(&net, s),
+        None => render(&net),
+    };
     let verified = input.verification.verified;
     out.main = crate::mark_unverified(out.main, verified, ("<!-- ", " -->"));
     for (_, text) in &mut out.extra {
@@ -48,9 +49,16 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     Ok(out)
 }
 
-/// The printed model of a network: the XML and the `.q` file.
+/// The printed model of a network of the zone engine: the XML and the
+/// `.q` file.
 pub fn render(net: &Network) -> Exported {
-    let mut p = Printer::new(net);
+    render_as(net, "timed automata of the zone engine")
+}
+
+/// The printed model of a network; `semantics` says which one it encodes
+/// (a header comment).
+pub fn render_as(net: &Network, semantics: &str) -> Exported {
+    let mut p = Printer::new(net, semantics);
     let xml = p.xml();
     let queries = p.query_file();
     Exported {
@@ -67,6 +75,7 @@ struct Query {
 
 struct Printer<'a> {
     net: &'a Network,
+    semantics: &'a str,
     names: Renaming,
     hurry: String,
     /// Template names, by process.
@@ -76,7 +85,7 @@ struct Printer<'a> {
 }
 
 impl<'a> Printer<'a> {
-    fn new(net: &'a Network) -> Self {
+    fn new(net: &'a Network, semantics: &'a str) -> Self {
         let mut names = Renaming::new(net, &[]);
         let hurry = names.fresh("hurry");
         let templates = net
@@ -96,6 +105,7 @@ impl<'a> Printer<'a> {
         }
         Printer {
             net,
+            semantics,
             names,
             hurry,
             templates,
@@ -114,8 +124,9 @@ impl<'a> Printer<'a> {
         out.push_str("<nta>\n");
         let _ = writeln!(
             out,
-            "<!-- genom-check: component {}, timed automata of the zone engine; one time unit is {} ns -->",
+            "<!-- genom-check: component {}, {}; one time unit is {} ns -->",
             comment_text(&self.net.name),
+            comment_text(self.semantics),
             self.net.unit_ns
         );
         if !self.names.renamed.is_empty() {

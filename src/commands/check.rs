@@ -7,28 +7,35 @@ use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{CheckArgs, Deny, Format, OutputArgs};
-use crate::terminal;
+use crate::config::{self, Config};
+use crate::{suppress, terminal};
+
+/// Exploration states allowed when neither `--max-states` nor the
+/// configuration says.
+const DEFAULT_MAX_STATES: usize = 10_000_000;
 
 /// Checks every file, prints, and returns the exit status.
 pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
-    let options = CheckOptions::new()
-        .max_states(args.max_states)
-        .timeout(args.timeout)
-        .max_memory(args.max_memory)
-        .behaviour(!args.static_only)
-        .reduction(!args.no_reduction)
-        .max_instances(args.max_instances)
-        .response_times(args.response_times);
-    let options = args
-        .deadlines
-        .iter()
-        .fold(options, |o, (s, ns)| o.deadline_for(s, *ns));
     let mut unread: Vec<json::JsonUnread> = Vec::new();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
-    let inputs = args.input.inputs();
     for path in &args.files {
+        let config = match config::for_file(path, args.config.as_deref()) {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return EXIT_USAGE;
+            }
+        };
+        let (options, inputs) = effective(args, config.as_ref(), path);
         match genom_check::check_path(path, &inputs, &options) {
-            Ok(result) => results.push((display(path), result)),
+            Ok(mut result) => {
+                let levels = config.map(|c| c.levels).unwrap_or_default();
+                if let Err(e) = suppress::apply(&mut result, &levels) {
+                    eprintln!("error: {e}");
+                    return EXIT_USAGE;
+                }
+                results.push((display(path), result));
+            }
             Err(e) => {
                 eprintln!("error: {e}");
                 unread.push(json::JsonUnread {
@@ -83,11 +90,50 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
     }
 }
 
-/// A `--deadline` naming a service that a checked LANGUAGE.md component
-/// does not have: the usage error to print (with the closest name).
+/// The options and inputs for `path`: the command line's, else the
+/// configuration's, else the defaults.
+fn effective(
+    args: &CheckArgs,
+    config: Option<&Config>,
+    path: &std::path::Path,
+) -> (CheckOptions, genom_check::Inputs) {
+    let options = CheckOptions::new()
+        .max_states(
+            args.max_states
+                .or(config.and_then(|c| c.max_states))
+                .unwrap_or(DEFAULT_MAX_STATES),
+        )
+        .timeout(args.timeout.or(config.and_then(|c| c.timeout)))
+        .max_memory(args.max_memory)
+        .behaviour(!args.static_only)
+        .reduction(!args.no_reduction)
+        .max_instances(
+            args.max_instances
+                .or(config.and_then(|c| c.max_instances))
+                .unwrap_or(genom_checker::DEFAULT_MAX_INSTANCES),
+        )
+        .response_times(args.response_times);
+    let options = args
+        .deadlines
+        .iter()
+        .fold(options, |o, (s, ns)| o.deadline_for(s, *ns));
+    let mut inputs = args.input.inputs();
+    if let Some(c) = config {
+        inputs.dialect = inputs.dialect.or(c.dialect);
+        inputs.include_dirs.extend(c.include_dirs.iter().cloned());
+        if inputs.wcet_file.is_none() {
+            inputs.wcet_file = c.wcet_for(path).cloned();
+        }
+    }
+    (options, inputs)
+}
+
+/// A `--deadline` naming a service that a checked component (either
+/// dialect) does not have: the usage error to print (with the closest
+/// name).
 fn unknown_deadline(args: &CheckArgs, results: &[(String, CheckResult)]) -> Option<String> {
     for (path, r) in results {
-        let Some(c) = r.component.as_ref().filter(|_| r.dialect == Dialect::Gen) else {
+        let Some(c) = r.component.as_ref() else {
             continue;
         };
         let names: Vec<&str> = c.services.values().map(|s| s.name.name.as_str()).collect();

@@ -133,13 +133,15 @@ fn format(f: ExportFormat) -> Format {
 }
 
 /// Whether the export would model a GenoM3 component with LANGUAGE.md's
-/// semantics (every behavioural format but `promela`, which models
-/// GenoM3's own untimed semantics; the diagrams only draw structure).
+/// semantics (every behavioural format; the diagrams only draw structure).
+/// The timed-automata exports model GenoM3's own timed semantics, and
+/// `promela` its untimed semantics.
 fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
     result.dialect == genom_model::Dialect::Genom3
+        && !matches!(args.target, ExportFormat::Dot | ExportFormat::Svg)
         && !matches!(
             args.target,
-            ExportFormat::Dot | ExportFormat::Svg | ExportFormat::Promela
+            ExportFormat::Tchecker | ExportFormat::Uppaal | ExportFormat::Promela
         )
 }
 

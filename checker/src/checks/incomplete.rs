@@ -3,7 +3,7 @@
 //! left unproven. Verdicts found before the limit (with their traces) stand;
 //! nothing is claimed about what was not explored.
 
-use genom_model::component::Component;
+use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic};
 
 use crate::engine::{Analysis, Stop};
@@ -54,6 +54,23 @@ pub fn timing_not_modelled(c: &Component, what: &str) -> Diagnostic {
     .with_help(
         "the untimed verdicts (dead services, codel reachability, livelocks) stand; schedulability (`thread-overrun`) is left unproven",
     )
+}
+
+/// A `--deadline` on a GenoM3 component without WCETs: without durations
+/// there is no response time to compare it with.
+pub fn deadline_without_wcet(c: &Component, s: ServiceId, ns: u64) -> Diagnostic {
+    let svc = &c.services[s];
+    Diagnostic::new(
+        Code::Incomplete,
+        format!(
+            "verification is incomplete: the deadline of `{}` ({}) is not decided: no codel has a WCET",
+            svc.name.name,
+            genom_model::render::human::format_ns(ns)
+        ),
+        svc.name.span,
+        "deadline not decided",
+    )
+    .with_help("give the codels' WCETs in a `--wcet` file: response times are computed in time")
 }
 
 /// The `incomplete` diagnostic, if exploration stopped early.

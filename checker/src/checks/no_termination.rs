@@ -45,6 +45,26 @@ a `max-time` so that the watchdog bounds it. Codels reached only through
 `on-inter` count too: an inter codel loop that never ends leaves the
 interrupted service stuck."#;
 
+/// [`no_termination`] in GenoM3's words: an activity whose state machine
+/// cannot reach `ether` from some reachable state.
+pub fn no_termination_genom3(
+    activity: &str,
+    first: (&str, Span),
+    others: &[(&str, Span)],
+) -> Diagnostic {
+    let (name, span) = first;
+    let d = Diagnostic::new(
+        Code::NoTermination,
+        format!("activity `{activity}` can never end by itself once in state `{name}`"),
+        span,
+        "no chain of yields from here reaches `ether`",
+    );
+    nor_from(d, others).with_help(
+        "add `ether` to a yield of a state of the loop; only an interruption (`interrupts`, \
+         `kill`, `abort_activity`) ends it now, and never with success",
+    )
+}
+
 /// A service that cannot end by itself from some reachable codels.
 pub fn no_termination(
     service: &str,
@@ -60,16 +80,21 @@ pub fn no_termination(
         "add an exit outcome (`end` or a report) to the `next` of a codel of the loop, or give \
          the service a `max-time` so that the watchdog bounds it"
     };
-    let mut d = Diagnostic::new(
+    let d = Diagnostic::new(
         Code::NoTermination,
         format!("service `{service}` can never end by itself once at codel `{name}`"),
         span,
         "no chain of `next` outcomes from here reaches `end` or a report",
     );
+    nor_from(d, others).with_help(help)
+}
+
+/// A label on each other stuck codel or state.
+fn nor_from(mut d: Diagnostic, others: &[(&str, Span)]) -> Diagnostic {
     for &(other, span) in others {
         d = d.with_label(span, format!("nor from `{other}`"));
     }
-    d.with_help(help)
+    d
 }
 
 /// The codels of `graph` from which a codel with an `end` or report outcome
@@ -122,12 +147,16 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
         let Some((&first, others)) = stuck.split_first() else {
             continue;
         };
-        out.push(no_termination(
-            &service.name.name,
-            service.max_time.is_some(),
-            first,
-            others,
-        ));
+        out.push(if c.genom3.is_some() {
+            no_termination_genom3(&service.name.name, first, others)
+        } else {
+            no_termination(
+                &service.name.name,
+                service.max_time.is_some(),
+                first,
+                others,
+            )
+        });
     }
     out
 }

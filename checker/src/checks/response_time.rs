@@ -66,6 +66,7 @@ fn bound(c: &Component, b: &Behaviour, r: &ServiceResponse) -> (Bound, Option<St
     match (&r.worst, r.exact) {
         (Worst::Incomplete, _) => (Bound::Unknown, Some("exploration incomplete".to_owned())),
         (Worst::Never, _) => (Bound::Unknown, Some("never acknowledged".to_owned())),
+        (Worst::Undecided(why), _) => (Bound::Unknown, Some((*why).to_owned())),
         (Worst::Exact(ns), true) => (Bound::Exact(*ns), None),
         (Worst::Above(ns), true) => (
             Bound::Above(*ns),

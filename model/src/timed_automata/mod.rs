@@ -55,6 +55,7 @@
 
 mod builder;
 mod expr;
+mod genom3;
 mod names;
 mod network;
 #[cfg(test)]
@@ -63,6 +64,7 @@ mod tests;
 use crate::define_id;
 
 pub use expr::{CmpOp, Expr, LValue, Stmt};
+pub use genom3::Genom3NetworkError;
 pub use names::{KEYWORDS, Renaming};
 pub use network::{
     Clock, ClockConstraint, ClockRole, Edge, Event, IntVar, Label, LabelKind, Location, Network,

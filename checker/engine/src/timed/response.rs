@@ -43,6 +43,9 @@ pub enum Worst {
     Incomplete,
     /// No execution acknowledges the service.
     Never,
+    /// The model cannot decide it, for this reason (GenoM3: an aperiodic
+    /// task's activations are not timed; a task of the group overruns).
+    Undecided(&'static str),
 }
 
 /// The response time of one service.
@@ -230,7 +233,7 @@ fn explore_cluster(
             let missed = match worst {
                 Worst::Unbounded | Worst::Above(_) => true,
                 Worst::Exact(ns) => deadlines.get(&service).is_some_and(|&dl| ns > dl),
-                Worst::Incomplete | Worst::Never => false,
+                Worst::Incomplete | Worst::Never | Worst::Undecided(_) => false,
             };
             let shown = deadlines.get(&service).copied().unwrap_or(0);
             missed

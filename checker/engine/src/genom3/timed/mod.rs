@@ -31,6 +31,7 @@
 pub mod analysis;
 pub mod groups;
 pub mod locks;
+pub mod response;
 mod steps;
 pub mod trace;
 
@@ -106,6 +107,10 @@ pub struct TG3State {
     /// Per task (bit): it has waited for a lock (time passed while it was
     /// idle with a due codel); its ticket comes before later ones (8.3).
     pub waiting: u64,
+    /// Per task (bit): a tick found its work unfinished and, with
+    /// [`TimedEngine::coalesce`], was coalesced: the task wakes again as
+    /// soon as that work ends (GenoM3 1.2).
+    pub late: u64,
     /// The clock zone.
     pub zone: Dbm,
 }
@@ -119,6 +124,9 @@ pub struct Ctl {
     pub phase: u8,
     /// Whether that codel runs (else it waits for its locks).
     pub running: bool,
+    /// Time passed while that codel could not begin: its ticket in GenoM3's
+    /// FIFO comes before those of task codels that have not waited (8.3).
+    pub waited: bool,
 }
 
 impl Ctl {
@@ -128,7 +136,11 @@ impl Ctl {
             G3Action::Call(k) => (2, k),
             _ => (3, 0),
         };
-        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1 | u64::from(self.running)
+        kind << 40
+            | u64::from(x) << 16
+            | u64::from(self.waited) << 9
+            | u64::from(self.phase) << 1
+            | u64::from(self.running)
     }
 
     fn unpack(v: u64) -> Option<Ctl> {
@@ -142,6 +154,7 @@ impl Ctl {
             job,
             phase: ((v >> 1) & 0xff) as u8,
             running: v & 1 == 1,
+            waited: (v >> 9) & 1 == 1,
         })
     }
 }
@@ -167,8 +180,22 @@ pub struct TimedEngine<'a> {
     pub acts_of: Vec<Vec<usize>>,
     /// The codels' WCETs and exclusion lists.
     pub locks: locks::Locks,
-    /// Largest constant each clock is compared with (index: clock − 1).
+    /// Largest constant each clock is compared with from below (`x > c`;
+    /// index: clock − 1).
     bounds: Vec<Option<i64>>,
+    /// Largest constant each clock is compared with from above (`x < c`):
+    /// as [`TimedEngine::bounds`], but none for response clocks.
+    upper: Vec<Option<i64>>,
+    /// Per activity: its response clock, when its response time is
+    /// measured ([`response`]).
+    pub resp: Vec<Option<usize>>,
+    /// The control thread's response clock (time since it took its
+    /// request), when measured.
+    pub ctl_resp: Option<usize>,
+    /// A tick that finds its task's work unfinished is coalesced, as in
+    /// GenoM3 (the task wakes again as soon as the work ends), instead of
+    /// ending the exploration as a `thread-overrun` (for response times).
+    pub coalesce: bool,
     /// Per service: the control codels (indices) that take time and whose
     /// locks some task's codel contends; the others run in no time here (a
     /// request may come at any time, so their duration changes nothing a
@@ -278,7 +305,11 @@ impl<'a> TimedEngine<'a> {
             ctl_clock,
             acts_of,
             locks,
+            upper: bounds.clone(),
             bounds,
+            resp: Vec::new(),
+            ctl_resp: None,
+            coalesce: false,
         })
     }
 
@@ -302,6 +333,7 @@ impl<'a> TimedEngine<'a> {
             violation: None,
             ctl: None,
             waiting: 0,
+            late: 0,
             zone: Dbm::zero(self.clock_count() + extra),
         };
         self.let_time_pass(self.finish(st))
@@ -355,6 +387,18 @@ impl<'a> TimedEngine<'a> {
             .iter()
             .all(|&(j, _, _)| !self.locks.excludes(k, j))
             && !self.queued_behind(st, t, k)
+            && !self.ctl_queued_before(st, t, k)
+    }
+
+    /// The control thread has waited for a lock with a control codel that
+    /// conflicts with codel `k` of task `t`, which has not waited: its
+    /// ticket is older (GenoM3's FIFO).
+    fn ctl_queued_before(&self, st: &TG3State, t: usize, k: usize) -> bool {
+        st.waiting >> t & 1 == 0
+            && st.ctl.is_some_and(|c| c.waited && !c.running)
+            && self
+                .ctl_codel(st)
+                .is_some_and(|j| self.locks.excludes(j, k) || self.locks.excludes(k, j))
     }
 
     /// Another task has waited for a lock with a due codel that conflicts
@@ -445,8 +489,10 @@ impl<'a> TimedEngine<'a> {
     /// `k`: it waits for a lock, so its ticket in GenoM3's FIFO comes
     /// before the control thread's (8.3).
     fn task_waits_for(&self, st: &TG3State, k: usize) -> bool {
+        let ctl_waited = st.ctl.is_some_and(|c| c.waited);
         (0..self.e.m.tasks.len()).any(|t| {
-            self.spawned(&st.g, t)
+            (!ctl_waited || st.waiting >> t & 1 == 1)
+                && self.spawned(&st.g, t)
                 && self.running(&st.g, t).is_none()
                 && self.instances(&st.g, t).iter().any(|&(who, i)| {
                     let j = self.locks.key(who.owner(), i.state);
@@ -515,6 +561,9 @@ impl<'a> TimedEngine<'a> {
                     st.waiting |= 1 << t;
                 }
             }
+            if let Some(c) = st.ctl.as_mut().filter(|c| !c.running) {
+                c.waited = true;
+            }
         }
         for (x, c) in self.invariants(&st) {
             st.zone.upper(x, c);
@@ -530,11 +579,12 @@ impl<'a> TimedEngine<'a> {
         if !st.ctl.is_some_and(|c| c.running) {
             st.zone.free(self.ctl_clock);
         }
+        self.free_responses(&mut st);
         // Only zones of the model's own clocks: a trace's zone has more
         // (snapshot clocks, whose exact values it needs).
         let own = st.zone.clocks() == self.clock_count();
         if own && !st.zone.is_empty() {
-            st.zone.extrapolate(&self.bounds, &self.bounds);
+            st.zone.extrapolate(&self.bounds, &self.upper);
         }
         st
     }
@@ -620,6 +670,7 @@ impl Model for TimedEngine<'_> {
         for (d, t) in n.g.done.iter_mut().zip(&self.tracked) {
             *d &= t;
         }
+        self.follow_responses(st, &mut n);
         let n = self.let_time_pass(n);
         (!n.zone.is_empty()).then_some(n)
     }
@@ -630,7 +681,7 @@ impl Model for TimedEngine<'_> {
         out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
         out.push(v);
         out.push(st.ctl.map_or(0, Ctl::pack));
-        out.push(st.waiting);
+        out.push(st.waiting | st.late << 32);
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
@@ -639,7 +690,8 @@ impl Model for TimedEngine<'_> {
         let bits = w.get(k).copied().unwrap_or(0);
         let v = w.get(k + 1).copied().unwrap_or(0);
         let ctl = w.get(k + 2).copied().and_then(Ctl::unpack);
-        let waiting = w.get(k + 3).copied().unwrap_or(0);
+        let word = w.get(k + 3).copied().unwrap_or(0);
+        let (waiting, late) = (word & 0xffff_ffff, word >> 32);
         TG3State {
             g,
             cont: bits & 0xffff_ffff,
@@ -647,6 +699,7 @@ impl Model for TimedEngine<'_> {
             violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
             ctl,
             waiting,
+            late,
             zone: zone.clone(),
         }
     }

@@ -75,11 +75,16 @@ impl TimedEngine<'_> {
                     job,
                     phase: 0,
                     running: false,
+                    waited: false,
                 });
             }
             TG3Action::CtlPhase => {
                 let c = n.ctl?;
-                n.ctl = Some(Ctl { running: true, ..c });
+                n.ctl = Some(Ctl {
+                    running: true,
+                    waited: false,
+                    ..c
+                });
                 n.zone.reset(self.ctl_clock);
             }
             TG3Action::CtlEnd(ok) => {
@@ -91,6 +96,7 @@ impl TimedEngine<'_> {
                         job: c.job,
                         phase: c.phase + 1,
                         running: false,
+                        waited: false,
                     });
                 } else if ok {
                     if let Some(g) = self.e.next_state(&n.g, c.job) {
@@ -136,6 +142,12 @@ impl TimedEngine<'_> {
         };
         if !n.zone.lower(x, at) {
             return None;
+        }
+        if self.unfinished(&n, t) && self.coalesce {
+            n.late |= 1 << t;
+            n.ticked |= 1 << t;
+            n.zone.reset(x);
+            return Some(self.finish(n));
         }
         if self.unfinished(&n, t) {
             n.zone = self.overrun_zone(&n, t)?;
@@ -226,6 +238,11 @@ impl TimedEngine<'_> {
             {
                 n.cont &= !(1 << t);
                 self.sweep(&mut n.g, t, self.period[t].is_none());
+            }
+            // A coalesced tick: the task wakes as soon as its work ended.
+            if n.late >> t & 1 == 1 && !self.unfinished(&n, t) && self.spawned(&n.g, t) {
+                n.late &= !(1 << t);
+                self.sweep(&mut n.g, t, true);
             }
         }
         n

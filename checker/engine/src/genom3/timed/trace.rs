@@ -20,9 +20,22 @@ use genom_model::trace::{Event, Trace, TraceStep};
 use super::{TG3Action, TG3State, TimedEngine, Who};
 use crate::genom3::state::Inst;
 use crate::genom3::trace::{codel_text, step};
+use crate::zones::dbm::{le, lt};
 
 /// The concrete trace of `path`, with `last` at the final instant.
 pub fn timed_trace(te: &TimedEngine<'_>, path: &[TG3Action], last: TraceStep) -> Trace {
+    timed_trace_beyond(te, path, last, None)
+}
+
+/// [`timed_trace`], its final instant chosen where clock `x` is beyond `c`
+/// units (`(x, c, true)`: `x > c`; `(x, c, false)`: `x ≥ c + 1`). When the
+/// path cannot get there, the final step has no instant.
+pub fn timed_trace_beyond(
+    te: &TimedEngine<'_>,
+    path: &[TG3Action],
+    last: TraceStep,
+    beyond: Option<(usize, i64, bool)>,
+) -> Trace {
     let base = te.clock_count();
     let mut st = te.start(1 + path.len());
     let mut steps = vec![TraceStep::new(
@@ -34,6 +47,7 @@ pub fn timed_trace(te: &TimedEngine<'_>, path: &[TG3Action], last: TraceStep) ->
         let Some(mut next) = te.fire(&st, a) else {
             break;
         };
+        te.follow_responses(&st, &mut next);
         next.zone.reset(base + 2 + k);
         let next = te.let_time_pass(next);
         marks.push(steps.len());
@@ -44,6 +58,13 @@ pub fn timed_trace(te: &TimedEngine<'_>, path: &[TG3Action], last: TraceStep) ->
         steps,
         loop_start: None,
     };
+    if let Some((x, c, strict)) = beyond {
+        let b = if strict { lt(-c) } else { le(-(c + 1)) };
+        if !st.zone.constrain(0, x, b) {
+            trace.steps.push(last);
+            return trace;
+        }
+    }
     let Some((values, scale)) = st.zone.pick() else {
         trace.steps.push(last);
         return trace;
@@ -71,7 +92,12 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
         TG3Action::Control(c) => step(&te.e, &before.g, &after.g, c),
         TG3Action::Tick(t) => {
             let p = format_ns(m.tasks[usize::from(t)].period_ns.unwrap_or(0));
-            let text = if after.violation.is_some() {
+            let text = if after.late >> t & 1 == 1 {
+                format!(
+                    "task `{}` reaches its tick (period {p}) still busy: the tick is coalesced, the task wakes again as soon as its work ends",
+                    task(t)
+                )
+            } else if after.violation.is_some() {
                 format!(
                     "task `{}` reaches its tick (period {p}) still busy",
                     task(t)
@@ -151,12 +177,12 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
 /// A control codel beginning or ending.
 fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep {
     let m = te.m();
-    let job = before.ctl.map(|c| (c.job, usize::from(c.phase)));
-    let sid = job.and_then(|(j, _)| te.job_service(j));
+    let sid = before.ctl.and_then(|c| te.job_service(c.job));
     let name = sid.map_or("", |s| m.service_name(s));
+    // The phase counts the codels that take time; `job_codel` says which.
     let st = sid
-        .zip(job)
-        .and_then(|(s, (_, p))| m.control_codels.get(&s)?.get(p));
+        .zip(before.ctl.and_then(|c| te.job_codel(c)))
+        .and_then(|(s, i)| m.control_codels.get(&s)?.get(i));
     let codel = st.map_or(String::new(), |x| x.name.clone());
     let function = st.map_or(String::new(), |x| x.function.clone());
     let (event, text, outcome) = match a {

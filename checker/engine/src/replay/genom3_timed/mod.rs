@@ -153,6 +153,13 @@ struct Sim<'m, 'c> {
     ctl: Option<Request>,
     runs: Vec<Interval>,
     now: u64,
+    /// Per activity: when its last instance was accepted.
+    accepted: Vec<Option<u64>>,
+    /// Ticks that find work unfinished are coalesced (GenoM3 1.2: the task
+    /// wakes again as soon as the work ends) rather than overruns.
+    coalesce: bool,
+    /// Per task: a coalesced tick is pending.
+    late: Vec<bool>,
 }
 
 /// Replays an overrun trace of the timed GenoM3 engine on `c` (read with
@@ -164,25 +171,64 @@ pub fn replay_genom3_timed(
     trace: &Trace,
 ) -> Result<(), String> {
     let m = Machine::new(c, max_instances).ok_or("not a GenoM3 component")?;
+    let n = trace.steps.len();
+    let tick = n.checked_sub(2).and_then(|k| trace.steps.get(k));
+    if n >= 3
+        && !tick.is_some_and(|t| t.event == Event::WakeUp && t.outcome.as_deref() == Some("tick"))
+    {
+        return Err(format!("step {}: the violation follows a tick", n - 1));
+    }
+    replay(&m, trace, true).map(|_| ())
+}
+
+/// Replays a `deadline-miss` trace of the timed GenoM3 engine on `c`: the
+/// rules as [`replay_genom3_timed`], except that a tick finding its task's
+/// work unfinished is coalesced (the task wakes again as soon as its work
+/// ends, GenoM3 1.2), up to the final `violation`, where an
+/// instance of activity `service` must still be alive (it has not
+/// replied). Ok: how long before the end it was accepted (its age, in ns),
+/// to compare with the deadline.
+pub fn replay_genom3_alive(
+    c: &Component,
+    max_instances: usize,
+    trace: &Trace,
+    service: &str,
+) -> Result<u64, String> {
+    let m = Machine::new(c, max_instances).ok_or("not a GenoM3 component")?;
+    let a = (0..m.activities.len())
+        .find(|&a| m.activity_name(a) == service)
+        .ok_or_else(|| format!("no activity `{service}`"))?;
+    let (now, alive, accepted) = replay(&m, trace, false)?;
+    match (alive[a], accepted[a]) {
+        (true, Some(at)) => Ok(now - at),
+        _ => Err(format!(
+            "at the end ({now} ns), `{service}` has no instance alive"
+        )),
+    }
+}
+
+/// At the end of a replay: the final instant, and per activity whether an
+/// instance lives and when the last one was accepted.
+type Ended = (u64, Vec<bool>, Vec<Option<u64>>);
+
+/// Replays `trace` (`overrun`: its violation is the tick before it).
+fn replay(m: &Machine<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> {
     let steps = &trace.steps;
     let n = steps.len();
     if steps.first().map(|s| s.event) != Some(Event::ComponentStart) {
         return Err("step 1: a trace starts with `component-start`".into());
     }
     if n < 3 || steps[n - 1].event != Event::Violation {
-        return Err(format!("step {n}: an overrun trace ends with `violation`"));
-    }
-    let tick = &steps[n - 2];
-    if tick.event != Event::WakeUp || tick.outcome.as_deref() != Some("tick") {
-        return Err(format!("step {}: the violation follows a tick", n - 1));
+        return Err(format!("step {n}: the trace ends with `violation`"));
     }
     let named = m
         .tasks
         .iter()
         .map(|t| steps.iter().any(|s| s.thread.as_deref() == Some(&t.name)))
         .collect();
-    let scope = Sim::new(&m, named).closure();
-    let mut sim = Sim::new(&m, scope);
+    let scope = Sim::new(m, named).closure();
+    let mut sim = Sim::new(m, scope);
+    sim.coalesce = !overrun;
     for (k, step) in steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
         let time = step
@@ -202,10 +248,14 @@ pub fn replay_genom3_timed(
             }
             continue;
         }
-        sim.step(step, k, k + 2 == n).map_err(at)?;
+        sim.step(step, k, overrun && k + 2 == n).map_err(at)?;
         sim.finish();
     }
-    sim.locks()
+    sim.locks()?;
+    let alive = (0..m.activities.len())
+        .map(|a| sim.insts.iter().any(|i| i.owner == Owner::Activity(a)))
+        .collect();
+    Ok((sim.now, alive, sim.accepted))
 }
 
 impl<'m, 'c> Sim<'m, 'c> {
@@ -237,6 +287,9 @@ impl<'m, 'c> Sim<'m, 'c> {
             ctl: None,
             runs: Vec::new(),
             now: 0,
+            accepted: vec![None; m.activities.len()],
+            coalesce: false,
+            late: vec![false; m.tasks.len()],
         };
         sim.settle(false);
         sim

@@ -42,6 +42,11 @@ impl Sim<'_, '_> {
                 if last {
                     return self.overrun(t);
                 }
+                if self.unfinished(t) && self.coalesce {
+                    self.late[t] = true;
+                    self.next_tick[t] = Some(self.now + p);
+                    return Ok(());
+                }
                 if self.unfinished(t) {
                     return Err(format!(
                         "task `{name}` reaches its tick with its work unfinished: that is the overrun"
@@ -163,6 +168,10 @@ impl Sim<'_, '_> {
             if self.cont[t] && !busy {
                 self.cont[t] = false;
                 self.sweep(t, self.m.tasks[t].period_ns.is_none());
+            }
+            if self.late[t] && !self.unfinished(t) && self.spawned(t) {
+                self.late[t] = false;
+                self.sweep(t, true);
             }
         }
     }
@@ -416,6 +425,7 @@ impl Sim<'_, '_> {
                 }
                 let status = if wait { Status::Delayed } else { Status::Ready };
                 self.insts.push(Inst::new(Owner::Activity(a), status, 0));
+                self.accepted[a] = Some(self.now);
                 let ended = self.insts.len() <= before;
                 self.settle(ended);
             }

@@ -1,0 +1,546 @@
+//! The network of timed automata of a **GenoM3** component, in GenoM3's
+//! timed semantics (`docs/genom3-semantics.md` section 15 and the rules of
+//! sections 1-10 it relies on), written from that document and the model,
+//! independently of the timed GenoM3 engine (`checker/engine/src/genom3/
+//! timed/`), so that TChecker checks an independent encoding of it.
+//!
+//! The encoding (docs/exports/tchecker.md, section "GenoM3 components"):
+//!
+//! - **One instance per activity**: each activity has one *slot*, each
+//!   task with permanent codels one more (first in its sweep). This is the
+//!   engine's `--max-instances 1`, its default.
+//! - **Integer variables** per slot: its status `st_X` (0 none, 1 accepted
+//!   and delayed by interrupted instances, 2 accepted, 3 running its
+//!   machine, 4 on its stop path), its state `q_X`, `due_X` (runs a codel
+//!   in the current sweep), `pz_X` (its last yield was `pause::`) and
+//!   `fl_X` (interrupted while its codel runs or is due). Per task: `cont_T`
+//!   (an unpaused transition in this sweep), `busy_T` (the process is in a
+//!   codel location), `cur_T` (the slot whose codel runs, 1-based) and
+//!   `run_T` (that codel's key, 1-based, for the locks). Globally: `phase`
+//!   (0 boot, 1 run, 2 drain after `kill`, 3 permanent stop paths, 4
+//!   stopped, 5 failed start), `booted` (tasks spawned), `pstop` (task
+//!   running its permanent stop path), `cph`/`crun` (control thread's
+//!   location and running codel), and `done_S` for the services some
+//!   `after`/`before` names.
+//! - **Clocks**: per periodic task its period clock `p_T` (since its last
+//!   tick), per task its execution clock `x_T`, and `x_ctl` for the
+//!   control thread's codels.
+//! - **Processes**: one per task ([`tasks`]): `sleep` before the first tick
+//!   of a periodic task, `idle`, one location per codel of its slots, and
+//!   `overrun`; and the control thread ([`control`]).
+//! - **Atomic steps**: a tick, an activation, a codel end or a request is
+//!   one edge whose statements ([`stmts`]) do the whole step: interruption,
+//!   pending interrupters re-examined, boot order, shutdown, and the
+//!   sweeps that follow at once.
+//! - **Urgency**: codel begins (and the control thread's) are urgent
+//!   edges with integer guards; [`Network::urgency`] says one is enabled.
+//!
+//! Labels: `codel_SERVICE_CODEL` on the location where an activity's codel
+//! runs, `overrun_TASK` on a periodic task's overrun location.
+
+mod control;
+mod read;
+mod stmts;
+mod tasks;
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::component::{Component, ServiceId};
+use crate::span::Span;
+use crate::timed_automata::{
+    Clock, ClockId, ClockRole, Event, EventId, Expr, IntVar, Network, VarId,
+};
+
+use read::Read;
+
+/// Why a GenoM3 component has no network.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Genom3NetworkError {
+    /// Not a GenoM3 component (or an interface).
+    #[error("not a GenoM3 component")]
+    NotGenom3,
+    /// Something the network does not model yet.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Event names and what they do.
+const EVENTS: [(&str, &str); 9] = [
+    ("tick", "a periodic task's tick"),
+    (
+        "overrun",
+        "a tick finds the previous wake-up's work unfinished",
+    ),
+    ("wake", "an aperiodic task is activated"),
+    ("begin", "a task begins a codel"),
+    ("finish", "a task's codel ends with one of its outcomes"),
+    ("drop", "a codel killed by the shutdown is forgotten"),
+    ("request", "the control thread handles a request"),
+    ("cbegin", "the control thread begins a control codel"),
+    ("cend", "a control codel ends"),
+];
+
+fn event(name: &str) -> EventId {
+    let i = EVENTS.iter().position(|(n, _)| *n == name).unwrap_or(0);
+    EventId(u32::try_from(i).unwrap_or(0))
+}
+
+fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect()
+}
+
+/// The variables of one slot.
+#[derive(Debug, Clone, Copy)]
+struct SlotVars {
+    st: VarId,
+    q: VarId,
+    due: VarId,
+    pz: VarId,
+    fl: VarId,
+}
+
+/// The variables and clocks of one task.
+#[derive(Debug, Clone, Copy)]
+struct TaskVars {
+    cont: VarId,
+    busy: VarId,
+    cur: VarId,
+    run: VarId,
+    period: Option<(ClockId, i64, i64)>,
+    exec: ClockId,
+}
+
+struct Builder<'a> {
+    c: &'a Component,
+    r: Read,
+    net: Network,
+    names: BTreeSet<String>,
+    labels: BTreeSet<String>,
+    unit: u64,
+    slots: Vec<SlotVars>,
+    tasks: Vec<TaskVars>,
+    phase: VarId,
+    booted: VarId,
+    pstop: VarId,
+    cph: VarId,
+    crun: VarId,
+    ctl_clock: ClockId,
+    done: BTreeMap<ServiceId, VarId>,
+    /// Per key: its duration bounds in units (lower, upper; `None`:
+    /// unbounded).
+    bounds: Vec<(i64, Option<i64>)>,
+    /// Per service: its control codels that take time (indices).
+    timed_ctl: BTreeMap<ServiceId, Vec<usize>>,
+    locals: usize,
+}
+
+/// Phase values.
+const BOOT: i64 = 0;
+const RUN: i64 = 1;
+const DRAIN: i64 = 2;
+const PERM_STOP: i64 = 3;
+const STOPPED: i64 = 4;
+const FAILED: i64 = 5;
+
+impl Network {
+    /// The network of a GenoM3 component in GenoM3's timed semantics (one
+    /// instance per activity).
+    pub fn build_genom3(c: &Component) -> Result<Network, Genom3NetworkError> {
+        let g = c
+            .genom3
+            .as_deref()
+            .filter(|g| !g.is_interface)
+            .ok_or(Genom3NetworkError::NotGenom3)?;
+        let r = read::read(c, g);
+        refuse(&r)?;
+        let mut b = Builder::new(c, r);
+        b.declare();
+        b.initial_values();
+        for t in 0..b.r.tasks.len() {
+            b.task_process(t);
+        }
+        b.control_process();
+        b.net.urgency = b.urgency();
+        b.net.horizon = b.horizon();
+        Ok(b.net)
+    }
+}
+
+/// What the network does not model: more than 31 slots of one task
+/// (GenoM3's pool), states beyond what a variable holds.
+fn refuse(r: &Read) -> Result<(), Genom3NetworkError> {
+    for t in &r.tasks {
+        if t.slots.len() > 32 {
+            return Err(Genom3NetworkError::Unsupported(format!(
+                "task `{}` has more activities than GenoM3's 32 slots",
+                t.name
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+impl<'a> Builder<'a> {
+    fn new(c: &'a Component, r: Read) -> Self {
+        let mut unit = 0;
+        for t in &r.tasks {
+            unit = gcd(gcd(unit, t.period_ns.unwrap_or(0)), t.delay_ns);
+        }
+        for s in r.slots.iter().flat_map(|s| s.fsm.states.iter()) {
+            unit = gcd(unit, s.wcet_ns);
+        }
+        for k in r.ctl_codels.values().flatten() {
+            unit = gcd(unit, k.wcet_ns);
+        }
+        let unit = unit.max(1);
+        let name = sanitize(&c.name.name);
+        let mut names: BTreeSet<String> = ["urgency", "hurry", "calm", name.as_str()]
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect();
+        names.extend(EVENTS.iter().map(|(n, _)| (*n).to_owned()));
+        let net = Network {
+            name,
+            unit_ns: unit,
+            horizon: 1,
+            clocks: Vec::new(),
+            vars: Vec::new(),
+            events: EVENTS
+                .iter()
+                .map(|(n, d)| Event {
+                    name: (*n).to_owned(),
+                    description: (*d).to_owned(),
+                })
+                .collect(),
+            processes: Vec::new(),
+            syncs: Vec::new(),
+            labels: Vec::new(),
+            services: Vec::new(),
+            frozen: VarId(0),
+            urgency: Expr::FALSE,
+        };
+        Builder {
+            c,
+            r,
+            net,
+            names,
+            labels: BTreeSet::new(),
+            unit,
+            slots: Vec::new(),
+            tasks: Vec::new(),
+            phase: VarId(0),
+            booted: VarId(0),
+            pstop: VarId(0),
+            cph: VarId(0),
+            crun: VarId(0),
+            ctl_clock: ClockId(0),
+            done: BTreeMap::new(),
+            bounds: Vec::new(),
+            timed_ctl: BTreeMap::new(),
+            locals: 0,
+        }
+    }
+
+    fn units(&self, ns: u64) -> i64 {
+        i64::try_from(ns / self.unit).unwrap_or(i64::MAX / 4)
+    }
+
+    fn fresh(&mut self, want: &str) -> String {
+        let base = sanitize(want);
+        let mut name = base.clone();
+        let mut k = 2;
+        while self.names.contains(&name)
+            || name.starts_with("tmp") && name[3..].parse::<u32>().is_ok()
+        {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
+        self.names.insert(name.clone());
+        name
+    }
+
+    fn fresh_label(&mut self, want: &str) -> String {
+        let base = sanitize(want);
+        let mut name = base.clone();
+        let mut k = 2;
+        while self.labels.contains(&name) {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
+        self.labels.insert(name.clone());
+        name
+    }
+
+    /// A local variable name, unique in the network.
+    fn local(&mut self) -> String {
+        self.locals += 1;
+        format!("tmp{}", self.locals)
+    }
+
+    fn int(&mut self, name: &str, max: i64, span: Span, description: String) -> VarId {
+        let name = self.fresh(name);
+        let id = VarId(u32::try_from(self.net.vars.len()).unwrap_or(u32::MAX));
+        self.net.vars.push(IntVar {
+            name,
+            size: 1,
+            min: 0,
+            max,
+            init: 0,
+            array: false,
+            span,
+            description,
+        });
+        id
+    }
+
+    fn clock(&mut self, name: &str, role: ClockRole, span: Span, description: String) -> ClockId {
+        let name = self.fresh(name);
+        let id = ClockId(u32::try_from(self.net.clocks.len()).unwrap_or(u32::MAX));
+        self.net.clocks.push(Clock {
+            name,
+            role,
+            span,
+            description,
+        });
+        id
+    }
+
+    /// Declares the clocks and variables, and reads the durations.
+    fn declare(&mut self) {
+        let span = self.c.name.span;
+        self.declare_tasks();
+        self.ctl_clock = self.clock(
+            "x_ctl",
+            ClockRole::Control,
+            span,
+            "time since the running control codel began".to_owned(),
+        );
+        self.declare_slots();
+        let n = i64::try_from(self.r.tasks.len()).unwrap_or(i64::MAX);
+        self.phase = self.int(
+            "phase",
+            FAILED,
+            span,
+            "0 boot, 1 run, 2 drain after kill, 3 permanent stop paths, 4 stopped, 5 failed start"
+                .to_owned(),
+        );
+        self.booted = self.int("booted", n, span, "tasks spawned at boot".to_owned());
+        self.pstop = self.int(
+            "pstop",
+            n,
+            span,
+            "the task running its permanent stop path (shutdown)".to_owned(),
+        );
+        let keys = i64::try_from(self.r.keys.len()).unwrap_or(i64::MAX);
+        self.crun = self.int(
+            "crun",
+            keys,
+            span,
+            "key + 1 of the running control codel (0: none)".to_owned(),
+        );
+        self.bounds = self.key_bounds();
+        self.timed_ctl = self.timed_control_codels();
+        let phases = self
+            .timed_ctl
+            .values()
+            .map(|v| 2 * v.len())
+            .sum::<usize>()
+            .max(1);
+        self.cph = self.int(
+            "cph",
+            i64::try_from(phases).unwrap_or(i64::MAX),
+            span,
+            "the control thread's location (0: idle)".to_owned(),
+        );
+        self.declare_done();
+    }
+
+    fn declare_tasks(&mut self) {
+        let slots_max = self.r.slots.len();
+        let keys = i64::try_from(self.r.keys.len()).unwrap_or(i64::MAX);
+        for t in 0..self.r.tasks.len() {
+            let task = self.r.tasks[t].clone();
+            let period = task.period_ns.map(|p| {
+                let clock = self.clock(
+                    &format!("p_{}", task.name),
+                    ClockRole::Period(task.id),
+                    task.span,
+                    format!("time since task {}'s last tick", task.name),
+                );
+                (clock, self.units(p), self.units(task.delay_ns))
+            });
+            let exec = self.clock(
+                &format!("x_{}", task.name),
+                ClockRole::Exec(task.id),
+                task.span,
+                format!("time since task {}'s running codel began", task.name),
+            );
+            let v = TaskVars {
+                cont: self.int(
+                    &format!("cont_{}", task.name),
+                    1,
+                    task.span,
+                    format!(
+                        "task {} made an unpaused transition in this sweep",
+                        task.name
+                    ),
+                ),
+                busy: self.int(
+                    &format!("busy_{}", task.name),
+                    1,
+                    task.span,
+                    format!("task {} is in a codel location", task.name),
+                ),
+                cur: self.int(
+                    &format!("cur_{}", task.name),
+                    i64::try_from(slots_max).unwrap_or(i64::MAX),
+                    task.span,
+                    format!("slot + 1 whose codel task {} runs (0: none)", task.name),
+                ),
+                run: self.int(
+                    &format!("run_{}", task.name),
+                    keys,
+                    task.span,
+                    format!("key + 1 of the codel task {} runs (0: none)", task.name),
+                ),
+                period,
+                exec,
+            };
+            self.tasks.push(v);
+        }
+    }
+
+    fn declare_slots(&mut self) {
+        for i in 0..self.r.slots.len() {
+            let slot = self.r.slots[i].clone();
+            let span = slot.service.map_or(self.r.tasks[slot.task].span, |s| {
+                self.c.services[s].name.span
+            });
+            let n = &slot.name;
+            let states = i64::try_from(slot.fsm.states.len().max(1) - 1).unwrap_or(0);
+            let v = SlotVars {
+                st: self.int(
+                    &format!("st_{n}"),
+                    4,
+                    span,
+                    format!("{n}: 0 none, 1 delayed, 2 accepted, 3 running, 4 stopping"),
+                ),
+                q: self.int(&format!("q_{n}"), states, span, format!("{n}: its state")),
+                due: self.int(
+                    &format!("due_{n}"),
+                    1,
+                    span,
+                    format!("{n}: runs a codel in this sweep"),
+                ),
+                pz: self.int(
+                    &format!("pz_{n}"),
+                    1,
+                    span,
+                    format!("{n}: paused (its last yield was pause::)"),
+                ),
+                fl: self.int(
+                    &format!("fl_{n}"),
+                    1,
+                    span,
+                    format!("{n}: interrupted while its codel runs or is due"),
+                ),
+            };
+            self.slots.push(v);
+        }
+    }
+
+    /// `done_S` for every service an `after` or `before` names.
+    fn declare_done(&mut self) {
+        let named: BTreeSet<ServiceId> = self
+            .r
+            .after
+            .values()
+            .chain(self.r.before.values())
+            .flatten()
+            .copied()
+            .collect();
+        for s in named {
+            let name = self.c.services[s].name.name.clone();
+            let span = self.c.services[s].name.span;
+            let v = self.int(
+                &format!("done_{name}"),
+                1,
+                span,
+                format!("{name} completed successfully once"),
+            );
+            self.done.insert(s, v);
+        }
+    }
+
+    /// Per key, its duration bounds in units.
+    fn key_bounds(&self) -> Vec<(i64, Option<i64>)> {
+        let mut out = vec![(0, Some(0)); self.r.keys.len()];
+        for s in self.r.slots.iter().flat_map(|s| s.fsm.states.iter()) {
+            let w = self.units(s.wcet_ns);
+            out[s.key] = if s.is_async { (w, None) } else { (0, Some(w)) };
+        }
+        for k in self.r.ctl_codels.values().flatten() {
+            out[k.key] = (0, Some(self.units(k.wcet_ns)));
+        }
+        out
+    }
+
+    /// The control codels that take time: a WCET and a lock some task's
+    /// codel contends (15.5); the others are instantaneous.
+    fn timed_control_codels(&self) -> BTreeMap<ServiceId, Vec<usize>> {
+        let mut out = BTreeMap::new();
+        for (&sid, list) in &self.r.ctl_codels {
+            let kept: Vec<usize> = (0..list.len())
+                .filter(|&i| {
+                    let k = list[i].key;
+                    let contended = !self.r.keys[k].excl.is_empty()
+                        || self.r.keys.iter().any(|j| j.excl.contains(&k));
+                    contended && self.bounds[k].1.is_some_and(|w| w > 0)
+                })
+                .collect();
+            if !kept.is_empty() {
+                out.insert(sid, kept);
+            }
+        }
+        out
+    }
+
+    /// The initial state: each permanent activity with a `start` codel in
+    /// it (not yet due: it starts at its task's first sweep), and the boot
+    /// order's first task.
+    fn initial_values(&mut self) {
+        for t in 0..self.r.tasks.len() {
+            let Some(p) = self.r.tasks[t].perm else {
+                continue;
+            };
+            if let Some(start) = self.r.slots[p].fsm.start {
+                let s = self.slots[p];
+                self.net.vars[s.st.0 as usize].init = 3;
+                self.net.vars[s.q.0 as usize].init = stmts::idx(start);
+            }
+        }
+        let (booted, phase) = self.initial_boot();
+        self.net.vars[self.booted.0 as usize].init = booted;
+        self.net.vars[self.phase.0 as usize].init = phase;
+    }
+
+    /// One more than the largest constant.
+    fn horizon(&self) -> i64 {
+        let mut m = 0;
+        for t in &self.tasks {
+            if let Some((_, p, d)) = t.period {
+                m = m.max(p).max(d);
+            }
+        }
+        for (lo, hi) in &self.bounds {
+            m = m.max(*lo).max(hi.unwrap_or(0));
+        }
+        m + 1
+    }
+}
