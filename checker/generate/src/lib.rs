@@ -58,10 +58,12 @@
 
 mod config;
 mod generator;
+pub mod genom3;
 mod plan;
 mod rng;
 
 pub use config::GeneratorConfig;
+pub use genom3::{Genom3Component, Genom3Config, generate_genom3};
 pub use rng::SplitMix;
 
 /// Generates the text of a component. Deterministic: the same
