@@ -423,6 +423,45 @@ pub struct GenerateArgs {
     /// Probability that a service also stops itself (on top of --density).
     #[arg(long, value_name = "P", default_value_t = 0.0)]
     pub self_stops: f64,
+
+    /// The dialect to generate: `gen` (LANGUAGE.md, the default) or `genom3`
+    /// (then --services counts activities, --threads tasks, --codels the
+    /// states of each activity, --density interrupts/after/before per service).
+    #[arg(long, value_enum, value_name = "DIALECT", default_value_t = DialectArg::Gen)]
+    pub dialect: DialectArg,
+
+    /// GenoM3: number of functions.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(0..=100))]
+    pub functions: u64,
+
+    /// GenoM3: number of attributes.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(0..=100))]
+    pub attributes: u64,
+
+    /// GenoM3: give some tasks permanent codels.
+    #[arg(long)]
+    pub permanent: bool,
+
+    /// GenoM3: make some codels `async`.
+    #[arg(long)]
+    pub asyncs: bool,
+
+    /// GenoM3: probability that a yield to a later state is `pause::`.
+    #[arg(long, value_name = "P", default_value_t = 0.5)]
+    pub pauses: f64,
+
+    /// GenoM3: allow yields back without `pause::` (livelocks, unpaused loops).
+    #[arg(long)]
+    pub unpaused_cycles: bool,
+
+    /// GenoM3 with --timed: the sum of the WCETs as a fraction of the shortest
+    /// period (at most 0.5 keeps every task in its period; above 1 tasks may overrun).
+    #[arg(long, value_name = "L", default_value_t = 0.3)]
+    pub load: f64,
+
+    /// GenoM3 with --timed: write the WCET side file there.
+    #[arg(long, value_name = "FILE")]
+    pub wcet_out: Option<PathBuf>,
 }
 
 /// `1.5` × `factor` (a suffix letter given), rounded down.

@@ -167,3 +167,83 @@ fn generated_components_check_with_behavioural_verdicts_only() {
         }
     }
 }
+
+/// `generate --dialect genom3`: deterministic, GenoM3 text, the WCET file
+/// written by `--wcet-out`, and a check of the pair that raises only
+/// verdicts (dead services, overruns...), never a front-end error.
+#[test]
+fn genom3_components_and_their_wcet_files() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let wcet = dir.path().join("c.wcet");
+    let wcet_arg = wcet.to_str().expect("UTF-8 path");
+    let args = [
+        "--dialect",
+        "genom3",
+        "--seed",
+        "5",
+        "--services",
+        "3",
+        "--threads",
+        "2",
+        "--codels",
+        "2",
+        "--permanent",
+        "--timed",
+        "--wcet-out",
+        wcet_arg,
+    ];
+    let text = generated(&args);
+    assert_eq!(text, generated(&args));
+    assert!(
+        text.contains("component rnd") && text.contains("  activity a2("),
+        "{text}"
+    );
+    let wcet_text = std::fs::read_to_string(&wcet).expect("the WCET file is written");
+    assert!(wcet_text.contains("a0.start "), "{wcet_text}");
+    let path = dir.path().join("c.gen");
+    std::fs::write(&path, &text).expect("written");
+    let out = genom_check()
+        .args([
+            "--format",
+            "json",
+            "--max-states",
+            "100000",
+            "--timeout",
+            "20s",
+        ])
+        .arg("--wcet")
+        .arg(&wcet)
+        .arg(&path)
+        .output()
+        .expect("runs");
+    let json: Value = serde_json::from_slice(&out.stdout).expect("one JSON document");
+    let file = &json["files"][0];
+    assert_eq!(file["dialect"], "genom3");
+    let errors = common::error_codes(file);
+    let genom3_verdicts = ["dead-service", "thread-overrun", "incomplete"];
+    assert!(
+        errors.iter().all(|c| genom3_verdicts.contains(c)),
+        "{errors:?}"
+    );
+    let codes: Vec<&str> = file["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .filter_map(|d| d["code"].as_str())
+        .collect();
+    assert!(!codes.contains(&"missing-wcet"), "{codes:?}");
+    // Without --dialect, the LANGUAGE.md generator as before.
+    assert!(!generated(&["--seed", "5"]).contains("activity"));
+}
+
+#[test]
+fn dialect_specific_generator_flags_are_usage_errors() {
+    for args in [
+        &["generate", "--dialect", "genom3", "--init"][..],
+        &["generate", "--dialect", "genom3", "--wcet-out", "x.wcet"],
+        &["generate", "--permanent"],
+        &["generate", "--dialect", "genom3", "--pauses", "2"],
+    ] {
+        genom_check().args(args).assert().code(2);
+    }
+}

@@ -14,6 +14,8 @@
 //! genom-check runs with `--max-instances 1`, the network's one instance
 //! per activity. Runs only when `TCK_REACH` names a `tck-reach` executable
 //! (docs/testing/tchecker.md); otherwise it prints a note and passes.
+//! Generated timed components (`genom_generate::generate_genom3`, small
+//! sizes; `TCK_GENOM3_SEEDS`, default 60) are compared with `tck-reach` too.
 //! `TCK_ALGO` (default `covreach`), `TCK_KEEP` (a directory that keeps the
 //! models) and `TCK_MEMORY_MB` are as for `tests/tchecker_diff.rs`.
 //!
@@ -40,6 +42,7 @@ use std::time::{Duration, Instant};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_export::{ExportInput, Format, Verification};
+use genom_generate::{Genom3Config, generate_genom3};
 use genom_model::Code;
 use genom_model::component::Component;
 use genom_model::component::genom3::FsmCodel;
@@ -110,6 +113,46 @@ fn corpus() -> Vec<Case> {
             })
         })
         .collect()
+}
+
+/// Generated timed GenoM3 components (`genom_generate::generate_genom3`),
+/// kept small enough for complete verdicts: at most 2 tasks, 3 activities
+/// of 2 states, 1 function and 1 attribute; written with their WCET files
+/// to `dir`.
+fn generated(dir: &Path, seeds: std::ops::Range<u64>) -> Vec<Case> {
+    seeds
+        .map(|seed| {
+            let mut cfg = Genom3Config::small(seed);
+            cfg.timed = true;
+            cfg.asyncs = false;
+            cfg.tasks = cfg.tasks.min(2);
+            cfg.activities = cfg.activities.min(3);
+            cfg.states = cfg.states.min(2);
+            cfg.functions = cfg.functions.min(1);
+            cfg.attributes = cfg.attributes.min(1);
+            let g = generate_genom3(&cfg);
+            let source = dir.join(format!("gen-{seed}.gen"));
+            let wcet = dir.join(format!("gen-{seed}.wcet"));
+            std::fs::write(&source, &g.r#gen).expect("writes the component");
+            std::fs::write(&wcet, g.wcet.expect("a timed component has WCETs"))
+                .expect("writes the WCET file");
+            Case {
+                name: format!("gen-{seed}"),
+                source,
+                wcet: Some(wcet),
+            }
+        })
+        .collect()
+}
+
+/// Generated seeds compared with `tck-reach` (`TCK_GENOM3_SEEDS`, default
+/// `n`). The interpreter does not take them: it counts time in half
+/// units, and their periods against their WCETs make millions of states.
+fn seed_count(n: u64) -> u64 {
+    std::env::var("TCK_GENOM3_SEEDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(n)
 }
 
 fn check(case: &Case) -> CheckResult {
@@ -459,7 +502,12 @@ fn genom3_timed_verdicts_agree_with_tchecker() {
     let dir = std::env::var_os("TCK_KEEP").map_or_else(|| tmp.path().to_owned(), PathBuf::from);
     std::fs::create_dir_all(&dir).expect("creates TCK_KEEP");
     let mut tally = Tally::default();
-    for case in fixtures().into_iter().chain(corpus()) {
+    let gen_dir = tempfile::tempdir().expect("a temporary directory");
+    let cases = fixtures()
+        .into_iter()
+        .chain(corpus())
+        .chain(generated(gen_dir.path(), 0..seed_count(60)));
+    for case in cases {
         tck_case(&case, &exe, &algo, &dir, &mut tally);
     }
     let text = tally.report(&format!("tchecker ({algo})"));

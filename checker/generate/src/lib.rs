@@ -50,6 +50,66 @@
 //!   of the thread, and about half of the services have a generous
 //!   `max-time` (several periods per codel).
 //!
+//! # GenoM3 components
+//!
+//! [`generate_genom3`] turns a [`Genom3Config`] into a [`Genom3Component`]:
+//! the text of a GenoM3 `.gen` file (`r#gen`: `gen` is a reserved word of
+//! Rust 2024) and, when `timed`, its WCET side file (`wcet`, the
+//! `OWNER.STATE DURATION` lines of docs/genom3.md). The text is
+//! self-contained (no `#include`) and loads with genom-check's GenoM3
+//! front-end without an error or a warning (the model checks that follow
+//! may warn `no-termination` for an endless activity); `genom3 -n` (2.99.39 and
+//! 2.99.41) accepts it too. [`Genom3Config::small`] derives a small
+//! configuration from a seed. A component `rnd` holds:
+//!
+//! - two exceptions (`e_fail`, `e_busy { long code; }`), the structs
+//!   `g_pose` and `g_cmd` (which nests a `g_pose`), `ids` members `m0`,
+//!   `m1`, ... (2 to 4 of `long`, `double`, `g_pose`, `g_cmd`) and, with
+//!   `ports`, `port out g_pose p_out` (sometimes `port in g_pose p_in`);
+//! - tasks `t0`, `t1`, ...: periodic (10, 20 or 50 ms, sometimes a
+//!   `delay`) when `timed`, else each with probability 0.7; with
+//!   `permanent`, `t0` and each other task with probability 1/2 have a
+//!   permanent state machine (most never reach `ether` by themselves, most
+//!   have a `stop` codel run at `kill`);
+//! - activities `a0`, ... on random tasks, with `in`/`out` parameters
+//!   (sometimes defaults), sometimes a `validate` codel and a `throw`;
+//!   their state machine has `start` and `states - 1` other states (`main`,
+//!   `wait`, `run`, ...) linked by a random tree of yields from `start`
+//!   plus extra yields, `pause::` with probability `pauses` forward and
+//!   always backward (unless `unpaused_cycles`, which gives `livelock` or
+//!   `unpaused-loop`); the tree's leaves yield `ether` except in *endless*
+//!   machines (1 in 7), which only end by `stop`, exception or `kill`; half
+//!   have a `stop` codel (`yield [pause::stop,] ether`); states whose
+//!   yields are all paused sometimes share a codel (`codel<main, wait>`);
+//!   with `asyncs`, one codel in four (not `start` or `stop`) is `async`
+//!   and takes no ids parameter (genom3 rejects `async` codels sharing ids
+//!   data);
+//! - functions `f0`, ... (typed parameters, sometimes `validate`, zero to
+//!   two codels, `throws`) and attributes `attr0`, ... (one or two ids
+//!   paths set with `in`, sometimes with a default, or read with `out`;
+//!   sometimes a `validate` reading the new values as `local in NAME`);
+//! - `interrupts`/`after`/`before`: each ordered pair of services gets a
+//!   reference with probability `density / services` (half `interrupts`,
+//!   which may name the service itself, a quarter each `after` and
+//!   `before`), and now and then `interrupts all`; `after` an endless
+//!   activity, or `after` cycles, give `dead-service`;
+//! - codel parameters: 0 to 2 per codel among ids paths (whole members or
+//!   nested members such as `m3.target.x`, `in`/`out`/`inout`, sometimes
+//!   `ids`-qualified, rarely `::ids`), the service's parameters (sometimes
+//!   `local`) and ports, with distinct names (genom3 names a parameter
+//!   after its path's last component), so that codels of different tasks
+//!   and the control thread contend for GenoM3's locks;
+//! - with `timed`, the WCET file gives every activity state, permanent
+//!   codel, `validate` and function codel a WCET: with `load` at most 1
+//!   they sum to `load` times the shortest period (0.3 in `small`: no
+//!   task overruns); above 1 each task's codels sum to about `load` times
+//!   its period, each below it, so wake-ups that run several codels give
+//!   `thread-overrun`.
+//!
+//! Every codel function is named `rnd_OWNER_STATE` (one prototype each),
+//! service parameters `a_*`/`f_*`, ids members `m*` and ports `p_*`, so no
+//! name is found in two sources (genom3's `missing-source`).
+//!
 //! For property tests, [`strategy`] (only under `#[cfg(test)]`, since
 //! proptest is a dev-dependency of this crate) yields configurations of
 //! small components; outside this crate's tests, [`GeneratorConfig::small`]
@@ -58,10 +118,12 @@
 
 mod config;
 mod generator;
+pub mod genom3;
 mod plan;
 mod rng;
 
 pub use config::GeneratorConfig;
+pub use genom3::{Genom3Component, Genom3Config, generate_genom3};
 pub use rng::SplitMix;
 
 /// Generates the text of a component. Deterministic: the same
