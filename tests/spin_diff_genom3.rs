@@ -1,6 +1,6 @@
 //! Differential test of the GenoM3 engine against SPIN: GenoM3 components
-//! (the semantics and timing fixtures, read untimed, and the corpus
-//! components SPIN finishes within its budget) are checked by genom-check's
+//! (the semantics and timing fixtures, read untimed, the corpus components
+//! within the state budget, four written here, and generated ones) are checked by genom-check's
 //! untimed GenoM3 engine and, exported with `export promela` (GenoM3's
 //! untimed semantics, written independently of the engine), by SPIN. Both
 //! must give the same verdicts: the services never accepted or started
@@ -26,10 +26,13 @@ use std::time::Instant;
 
 use genom_check::{CheckOptions, Inputs, check_path};
 use genom_export::{ExportInput, Format, Verification, export};
+use genom_generate::{Genom3Config, generate_genom3};
 use genom_model::Code;
 use genom_model::component::Component;
 use genom_model::component::genom3::FsmCodel;
 
+/// Generated GenoM3 components compared (seeds 0..GENERATED, untimed).
+const GENERATED: u64 = 120;
 /// Worker threads (the machine's cores are shared).
 const WORKERS: usize = 2;
 /// The state budget of genom-check's exploration: a component above it is
@@ -473,6 +476,12 @@ fn spin_agrees_with_the_genom3_engine() {
         std::fs::write(&path, text).expect("written");
         jobs.push(path);
     }
+    for seed in 0..GENERATED {
+        let generated = generate_genom3(&Genom3Config::small(seed));
+        let path = hand.join(format!("generated-{seed}.gen"));
+        std::fs::write(&path, generated.r#gen).expect("written");
+        jobs.push(path);
+    }
     let next = AtomicUsize::new(0);
     let outcomes = Mutex::new(Vec::new());
     std::thread::scope(|scope| {
@@ -511,7 +520,7 @@ fn report(cases: &[Case], skipped: &[String], started: Instant) {
         started.elapsed().as_secs_f64()
     );
     assert!(
-        cases.len() >= 20,
+        cases.len() >= 100,
         "too few components compared: {}",
         cases.len()
     );
