@@ -38,7 +38,7 @@ const WORKERS: usize = 2;
 /// The state budget of genom-check's exploration: a component above it is
 /// skipped and listed (the whole-component state space SPIN explores is
 /// larger still than the engine's, which goes part by part).
-const MAX_STATES: usize = 200_000;
+const MAX_STATES: usize = 50_000;
 /// SPIN's memory budget in megabytes (`-DMEMLIM`, with the DFS stack of
 /// `-m` and the hash table of `-w`): a component whose state space does not
 /// fit is skipped and listed.
