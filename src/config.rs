@@ -127,7 +127,10 @@ impl ConfigError {
 /// The configuration for a file at `checked`: `explicit` if given, else
 /// the first `genom-check.toml` in its folder or a parent. `Ok(None)` when
 /// there is none.
-pub fn for_file(checked: &Path, explicit: Option<&Path>) -> Result<Option<Config>, Box<ConfigError>> {
+pub fn for_file(
+    checked: &Path,
+    explicit: Option<&Path>,
+) -> Result<Option<Config>, Box<ConfigError>> {
     let path = match explicit {
         Some(p) => p.to_path_buf(),
         None => match find(checked) {
