@@ -49,6 +49,10 @@ struct Client {
 
 impl Client {
     fn start() -> Self {
+        Self::start_with(json!({}))
+    }
+
+    fn start_with(capabilities: Value) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_genom-check"))
             .arg("lsp")
             .stdin(Stdio::piped())
@@ -75,7 +79,7 @@ impl Client {
         };
         let init = client.request(
             "initialize",
-            json!({ "processId": null, "rootUri": null, "capabilities": {} }),
+            json!({ "processId": null, "rootUri": null, "capabilities": capabilities }),
         );
         let caps = &init["capabilities"];
         assert_eq!(caps["textDocumentSync"]["change"], 1, "full sync: {caps}");
@@ -121,6 +125,11 @@ impl Client {
                 return message["params"]["diagnostics"].as_array().unwrap().clone();
             }
         }
+    }
+
+    /// The next message from the server.
+    fn next(&mut self) -> Value {
+        self.incoming.recv_timeout(WAIT).unwrap()
     }
 
     fn open(&mut self, uri: &str, text: &str) {
@@ -357,5 +366,96 @@ fn unknown_requests_get_an_error_and_the_server_still_answers() {
         }
     };
     assert_eq!(answer["error"]["code"], -32601);
+    client.shutdown();
+}
+
+#[test]
+fn a_newer_text_supersedes_the_check_of_an_older_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let uri = uri_of(&dir.path().join("demo.gen"));
+    let mut client = Client::start();
+    client.open(&uri, BROKEN);
+    let fixed = BROKEN
+        .replace("motoin", "motion")
+        .replace("  stops: move;\n", "");
+    // No waiting for the first check: the fix is queued behind it or
+    // replaces it, and only its diagnostics may be the last ones.
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 2 },
+                "contentChanges": [{ "text": fixed }] }),
+    );
+    while !client.diagnostics(&uri).is_empty() {}
+    client.next_id += 1;
+    let id = client.next_id;
+    client.send(
+        &json!({ "jsonrpc": "2.0", "id": id, "method": "textDocument/documentSymbol",
+                         "params": { "textDocument": { "uri": uri } } }),
+    );
+    let answer = loop {
+        let message = client.next();
+        assert_ne!(
+            message["method"], "textDocument/publishDiagnostics",
+            "published after the newest check: {message}"
+        );
+        if message["id"] == id {
+            break message;
+        }
+    };
+    // The symbols are those of the fixed text: `move` has its thread.
+    assert_eq!(answer["result"][0]["children"][0]["name"], "move");
+    let hover = client.request(
+        "textDocument/hover",
+        json!({ "textDocument": { "uri": uri },
+                "position": { "line": 6, "character": 10 } }),
+    );
+    let text = hover["contents"]["value"].as_str().unwrap();
+    assert!(text.contains("thread: `motion`"), "{text}");
+    client.shutdown();
+}
+
+#[test]
+fn a_save_check_reports_progress_when_the_client_shows_it() {
+    let text =
+        std::fs::read_to_string("tests/fixtures/invalid/dead-service.delayed-by-auto.gen").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("board.gen");
+    std::fs::write(&path, &text).unwrap();
+    let uri = uri_of(&path);
+    let mut client = Client::start_with(json!({ "window": { "workDoneProgress": true } }));
+    client.open(&uri, &text);
+    client.diagnostics(&uri);
+    client.notify(
+        "textDocument/didSave",
+        json!({ "textDocument": { "uri": uri } }),
+    );
+    let create = client.next();
+    assert_eq!(
+        create["method"], "window/workDoneProgress/create",
+        "{create}"
+    );
+    let token = create["params"]["token"].clone();
+    client.send(&json!({ "jsonrpc": "2.0", "id": create["id"], "result": null }));
+    let mut events = Vec::new();
+    loop {
+        let message = client.next();
+        if message["method"] == "$/progress" {
+            assert_eq!(message["params"]["token"], token);
+            events.push(
+                message["params"]["value"]["kind"]
+                    .as_str()
+                    .unwrap()
+                    .to_owned(),
+            );
+        } else if message["method"] == "textDocument/publishDiagnostics" {
+            events.push("diagnostics".to_owned());
+            let codes = codes(message["params"]["diagnostics"].as_array().unwrap()).join(" ");
+            assert!(codes.contains("dead-service"), "{codes}");
+        }
+        if events.len() == 3 {
+            break;
+        }
+    }
+    assert_eq!(events, ["begin", "diagnostics", "end"]);
     client.shutdown();
 }

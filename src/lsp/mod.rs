@@ -1,30 +1,37 @@
 //! `genom-check lsp`: a Language Server over standard input and output.
 //! Open and edited documents get the static checks, saved ones the whole
-//! check (behaviour, bounded by a timeout); their diagnostics are pushed.
-//! It answers document symbols, go-to-definition and hover from the
-//! component model of the last check.
+//! check (behaviour, bounded by a timeout, reported as `$/progress`);
+//! their diagnostics are pushed. Checks run on a worker thread, newest
+//! text first (a check of an outdated text is dropped). It answers
+//! document symbols, go-to-definition and hover from the component model
+//! of the last check.
 
 mod check;
 mod navigate;
 mod position;
 mod publish;
+mod worker;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::error::Error;
 
-use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
+use lsp_server::{Connection, ErrorCode, Message, Notification, Request, RequestId, Response};
 use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument,
-    Notification as _, PublishDiagnostics,
+    Notification as _, Progress, PublishDiagnostics,
 };
-use lsp_types::request::{DocumentSymbolRequest, GotoDefinition, HoverRequest, Request as _};
+use lsp_types::request::{
+    DocumentSymbolRequest, GotoDefinition, HoverRequest, Request as _, WorkDoneProgressCreate,
+};
 use lsp_types::{
-    HoverProviderCapability, InitializeResult, OneOf, PublishDiagnosticsParams, SaveOptions,
-    ServerCapabilities, ServerInfo, TextDocumentSyncCapability, TextDocumentSyncKind,
-    TextDocumentSyncOptions, TextDocumentSyncSaveOptions, Uri,
+    HoverProviderCapability, InitializeResult, OneOf, ProgressParams, ProgressParamsValue,
+    ProgressToken, PublishDiagnosticsParams, SaveOptions, ServerCapabilities, ServerInfo,
+    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
+    TextDocumentSyncSaveOptions, Uri, WorkDoneProgress, WorkDoneProgressBegin,
+    WorkDoneProgressCreateParams, WorkDoneProgressEnd,
 };
 
-use self::check::{Document, Settings};
+use self::check::{Document, Done, Job, Settings};
 use crate::cli::LspArgs;
 use crate::commands::{EXIT_OK, EXIT_USAGE};
 
@@ -85,34 +92,49 @@ fn serve(connection: &Connection, args: &LspArgs) -> Fallible<()> {
         .and_then(|o| o.get("codeUrl"))
         .and_then(serde_json::Value::as_str)
         .map(str::to_owned);
+    let progress = params
+        .pointer("/capabilities/window/workDoneProgress")
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(false);
+    let settings = Settings {
+        timeout: args.timeout,
+        code_url,
+    };
+    let worker = worker::start(settings)?;
     let mut server = Server {
         connection,
-        settings: Settings {
-            timeout: args.timeout,
-            code_url,
-        },
+        jobs: worker.jobs,
+        progress,
+        requests: 0,
         documents: BTreeMap::new(),
     };
-    for message in &connection.receiver {
-        match message {
-            Message::Request(request) => {
-                if connection.handle_shutdown(&request)? {
-                    return Ok(());
+    loop {
+        crossbeam_channel::select! {
+            recv(connection.receiver) -> message => match message? {
+                Message::Request(request) => {
+                    if connection.handle_shutdown(&request)? {
+                        return Ok(());
+                    }
+                    server.request(request)?;
                 }
-                server.request(request)?;
-            }
-            Message::Notification(n) if n.method == "exit" => return Ok(()),
-            Message::Notification(n) => server.notification(n)?,
-            Message::Response(_) => {}
+                Message::Notification(n) if n.method == "exit" => return Ok(()),
+                Message::Notification(n) => server.notification(n)?,
+                Message::Response(_) => {}
+            },
+            recv(worker.done) -> done => server.finished(done?)?,
         }
     }
-    Ok(())
 }
 
 /// The server's state: the open documents by URI.
 struct Server<'a> {
     connection: &'a Connection,
-    settings: Settings,
+    /// Checks to run.
+    jobs: crossbeam_channel::Sender<Job>,
+    /// Whether the client shows `$/progress`.
+    progress: bool,
+    /// Requests sent to the client so far (for their ids).
+    requests: u64,
     documents: BTreeMap<String, Document>,
 }
 
@@ -145,31 +167,97 @@ impl Server<'_> {
             }
             DidCloseTextDocument::METHOD => {
                 let p: lsp_types::DidCloseTextDocumentParams = serde_json::from_value(n.params)?;
-                match self.documents.remove(p.text_document.uri.as_str()) {
-                    Some(doc) => self.clear(&doc),
-                    None => Ok(()),
+                let Some(mut doc) = self.documents.remove(p.text_document.uri.as_str()) else {
+                    return Ok(());
+                };
+                if let Some((token, _)) = doc.progress.take() {
+                    self.end_progress(token)?;
                 }
+                self.clear(&doc)
             }
             _ => Ok(()),
         }
     }
 
-    /// Checks `doc` (statically, or fully when `full`), publishes its
-    /// diagnostics and keeps it.
+    /// Asks for a check of `doc` (statically, or fully when `full`) and
+    /// keeps it.
     fn recheck(&mut self, mut doc: Document, full: bool) -> Fallible<()> {
-        let files = doc.check(&self.settings, full);
-        let now: BTreeSet<String> = files.keys().cloned().collect();
-        for (uri, diagnostics) in files.into_values() {
-            self.publish(uri, diagnostics)?;
+        let job = doc.job(full);
+        if full && self.progress && doc.progress.is_none() {
+            doc.progress = Some((self.begin_progress(&doc)?, job.generation));
         }
-        // Includes whose diagnostics are gone are cleared.
-        for stale in doc.published.difference(&now) {
-            if let Ok(uri) = stale.parse::<Uri>() {
-                self.publish(uri, Vec::new())?;
-            }
-        }
-        doc.published = now;
+        self.jobs.send(job)?;
         self.documents.insert(doc.uri.as_str().to_owned(), doc);
+        Ok(())
+    }
+
+    /// A check ended: unless its document changed since, its diagnostics
+    /// are published and its result kept.
+    fn finished(&mut self, done: Done) -> Fallible<()> {
+        let key = done.job.uri.as_str().to_owned();
+        let Some(mut doc) = self.documents.remove(&key) else {
+            return Ok(());
+        };
+        if done.job.generation == doc.generation {
+            let now: BTreeSet<String> = done.files.keys().cloned().collect();
+            for (uri, diagnostics) in done.files.into_values() {
+                self.publish(uri, diagnostics)?;
+            }
+            // Includes whose diagnostics are gone are cleared.
+            for stale in doc.published.difference(&now) {
+                if let Ok(uri) = stale.parse::<Uri>() {
+                    self.publish(uri, Vec::new())?;
+                }
+            }
+            doc.published = now;
+            doc.checked = done.result.map(|r| (done.job.text, r));
+        }
+        // A save's progress ends with its check, or with a newer one.
+        if let Some((token, _)) = doc.progress.take_if(|(_, g)| *g <= done.job.generation) {
+            self.end_progress(token)?;
+        }
+        self.documents.insert(key, doc);
+        Ok(())
+    }
+
+    /// Creates a progress token and begins it: "checking NAME".
+    fn begin_progress(&mut self, doc: &Document) -> Fallible<ProgressToken> {
+        self.requests += 1;
+        let token = ProgressToken::String(format!("genom-check/{}", self.requests));
+        let create = Request::new(
+            RequestId::from(format!("genom-check/{}", self.requests)),
+            WorkDoneProgressCreate::METHOD.to_owned(),
+            WorkDoneProgressCreateParams {
+                token: token.clone(),
+            },
+        );
+        self.connection.sender.send(Message::Request(create))?;
+        let name = doc
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let begin = WorkDoneProgress::Begin(WorkDoneProgressBegin {
+            title: format!("genom-check: checking {name}"),
+            cancellable: Some(false),
+            message: Some("whole check (behaviour and timing)".to_owned()),
+            percentage: None,
+        });
+        self.send_progress(token.clone(), begin)?;
+        Ok(token)
+    }
+
+    fn end_progress(&self, token: ProgressToken) -> Fallible<()> {
+        let end = WorkDoneProgress::End(WorkDoneProgressEnd { message: None });
+        self.send_progress(token, end)
+    }
+
+    fn send_progress(&self, token: ProgressToken, value: WorkDoneProgress) -> Fallible<()> {
+        let params = ProgressParams {
+            token,
+            value: ProgressParamsValue::WorkDone(value),
+        };
+        let n = Notification::new(Progress::METHOD.to_owned(), params);
+        self.connection.sender.send(Message::Notification(n))?;
         Ok(())
     }
 

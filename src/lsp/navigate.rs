@@ -96,10 +96,9 @@ fn target(doc: &Document) -> Target<'_> {
 /// The symbols of the document: its component's services (with their
 /// codels), threads, data structures and ports written in it.
 pub fn symbols(doc: &Document) -> DocumentSymbolResponse {
-    let Some((result, c)) = doc
-        .result
-        .as_ref()
-        .and_then(|r| Some((r, r.component.as_ref()?)))
+    let Some((text, result, c)) = doc
+        .result()
+        .and_then(|(t, r)| Some((t, r, r.component.as_ref()?)))
     else {
         return DocumentSymbolResponse::Nested(Vec::new());
     };
@@ -124,7 +123,7 @@ pub fn symbols(doc: &Document) -> DocumentSymbolResponse {
     let Some(name) = here(c.name.span) else {
         return DocumentSymbolResponse::Nested(top);
     };
-    let whole = position::range(&doc.text, 0, doc.text.len());
+    let whole = position::range(text, 0, text.len());
     let root = DocumentSymbol {
         range: Range::new(Position::new(0, 0), whole.end.max(name.end)),
         ..symbol_at(
@@ -186,16 +185,20 @@ fn word_at(text: &str, at: usize) -> Option<(usize, &str)> {
 
 /// The declarations the word under `at` names, best first: for a codel
 /// name shared by several services, the codels of the service written
-/// last before the cursor come first.
+/// last before the cursor come first. Positions are read in the text the
+/// last check read (while a newer text is being checked, they may be off).
 fn named_at<'a>(doc: &Document, c: &'a Component, at: Position) -> Vec<Declared<'a>> {
-    let local = position::offset(&doc.text, at);
-    let Some((_, word)) = word_at(&doc.text, local) else {
+    let Some((text, result)) = doc.result() else {
         return Vec::new();
     };
-    let base = doc
-        .result
-        .as_ref()
-        .and_then(|r| r.sources.files().find(|(_, f)| f.path == doc.path))
+    let local = position::offset(text, at);
+    let Some((_, word)) = word_at(text, local) else {
+        return Vec::new();
+    };
+    let base = result
+        .sources
+        .files()
+        .find(|(_, f)| f.path == doc.path)
         .map_or(0, |(_, f)| f.base);
     let cursor = base.saturating_add(u32::try_from(local).unwrap_or(u32::MAX));
     let mut found: Vec<Declared<'a>> = declarations(c)
@@ -219,7 +222,7 @@ fn named_at<'a>(doc: &Document, c: &'a Component, at: Position) -> Vec<Declared<
 /// Where the service, thread, codel, structure or port named under `at`
 /// is declared.
 pub fn definition(doc: &Document, at: Position) -> Option<GotoDefinitionResponse> {
-    let result = doc.result.as_ref()?;
+    let (_, result) = doc.result()?;
     let c = result.component.as_ref()?;
     let target = target(doc);
     let locations: Vec<Location> = named_at(doc, c, at)
@@ -239,7 +242,7 @@ pub fn definition(doc: &Document, at: Position) -> Option<GotoDefinitionResponse
 
 /// The resolved facts of the service, thread or codel named under `at`.
 pub fn hover(doc: &Document, at: Position) -> Option<Hover> {
-    let c = doc.result.as_ref()?.component.as_ref()?;
+    let c = doc.result()?.1.component.as_ref()?;
     let d = named_at(doc, c, at).into_iter().next()?;
     let value = match d.kind {
         Thing::Service(id) => facts::service(c, id),
