@@ -49,10 +49,10 @@ struct Client {
 
 impl Client {
     fn start() -> Self {
-        Self::start_with(json!({}))
+        Self::start_with(json!({}), Value::Null)
     }
 
-    fn start_with(capabilities: Value) -> Self {
+    fn start_with(capabilities: Value, options: Value) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_genom-check"))
             .arg("lsp")
             .stdin(Stdio::piped())
@@ -79,7 +79,8 @@ impl Client {
         };
         let init = client.request(
             "initialize",
-            json!({ "processId": null, "rootUri": null, "capabilities": capabilities }),
+            json!({ "processId": null, "rootUri": null, "capabilities": capabilities,
+                    "initializationOptions": options }),
         );
         let caps = &init["capabilities"];
         assert_eq!(caps["textDocumentSync"]["change"], 1, "full sync: {caps}");
@@ -422,7 +423,10 @@ fn a_save_check_reports_progress_when_the_client_shows_it() {
     let path = dir.path().join("board.gen");
     std::fs::write(&path, &text).unwrap();
     let uri = uri_of(&path);
-    let mut client = Client::start_with(json!({ "window": { "workDoneProgress": true } }));
+    let mut client = Client::start_with(
+        json!({ "window": { "workDoneProgress": true } }),
+        Value::Null,
+    );
     client.open(&uri, &text);
     client.diagnostics(&uri);
     client.notify(
@@ -457,5 +461,105 @@ fn a_save_check_reports_progress_when_the_client_shows_it() {
         }
     }
     assert_eq!(events, ["begin", "diagnostics", "end"]);
+    client.shutdown();
+}
+
+/// A GenoM3 interface included by the component: `pos` is in both ids.
+const IFACE: &str = "/* shared */
+interface shared {
+  ids { long pos; };
+  function reset() {
+    codel reset_it(out pos);
+  };
+};
+";
+
+const MAIN: &str = "#include \"iface.gen\"
+component main {
+  ids { long pos; };
+  provides shared;
+  task t { period 10 ms; };
+  activity move() { task t; interrupts reset; codel<start> go(inout pos) yield ether; };
+};
+";
+
+#[test]
+fn includes_get_their_own_diagnostics_and_definitions() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("iface.gen"), IFACE).unwrap();
+    let main = uri_of(&dir.path().join("main.gen"));
+    let iface = uri_of(&dir.path().join("iface.gen"));
+    let mut client = Client::start_with(
+        json!({}),
+        json!({ "codeUrl": "https://example.org/codes#{code}" }),
+    );
+    client.open(&main, MAIN);
+    // Files are published in the order of their URIs: `iface` first.
+    let found = client.diagnostics(&iface);
+    assert_eq!(codes(&found), ["duplicate-definition"]);
+    assert_eq!(
+        found[0]["range"]["start"],
+        json!({ "line": 2, "character": 13 })
+    );
+    assert_eq!(
+        found[0]["codeDescription"]["href"],
+        "https://example.org/codes#duplicate-definition"
+    );
+    let related: Vec<(&str, &Value)> = found[0]["relatedInformation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r["location"]["uri"].as_str().unwrap(),
+                &r["location"]["range"]["start"],
+            )
+        })
+        .collect();
+    assert_eq!(
+        related,
+        [
+            (main.as_str(), &json!({ "line": 2, "character": 13 })),
+            (main.as_str(), &json!({ "line": 0, "character": 0 }))
+        ]
+    );
+    assert_eq!(client.diagnostics(&main), Vec::<Value>::new());
+
+    let fixed = MAIN.replace("long pos;", "long speed;");
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": main, "version": 2 },
+                "contentChanges": [{ "text": fixed }] }),
+    );
+    // The include's diagnostics are cleared (after the document's).
+    assert_eq!(codes(&client.diagnostics(&main)), ["missing-wcet"]);
+    assert_eq!(client.diagnostics(&iface), Vec::<Value>::new());
+    // `interrupts reset` names the function declared in the include.
+    let definition = client.request(
+        "textDocument/definition",
+        json!({ "textDocument": { "uri": main },
+                "position": { "line": 5, "character": 41 } }),
+    );
+    assert_eq!(definition["uri"], iface.as_str());
+    assert_eq!(
+        definition["range"],
+        json!({ "start": { "line": 3, "character": 11 },
+                "end": { "line": 3, "character": 16 } })
+    );
+    // The outline lists only what the document itself declares.
+    let symbols = client.request(
+        "textDocument/documentSymbol",
+        json!({ "textDocument": { "uri": main } }),
+    );
+    let names: Vec<&str> = symbols[0]["children"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"move") && !names.contains(&"reset"),
+        "{names:?}"
+    );
     client.shutdown();
 }
