@@ -286,6 +286,19 @@ fn a_save_runs_the_behavioural_checks() {
         dead["message"].as_str().unwrap().contains("Update"),
         "{dead}"
     );
+    // The trace's steps that point at the text are related information.
+    let steps: Vec<&str> = dead["relatedInformation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["message"].as_str().unwrap())
+        .collect();
+    assert!(
+        steps
+            .iter()
+            .any(|s| s.starts_with("trace step ") && s.contains("requests `Update`")),
+        "{steps:?}"
+    );
     client.shutdown();
 }
 
