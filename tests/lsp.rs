@@ -384,6 +384,14 @@ fn unknown_requests_get_an_error_and_the_server_still_answers() {
 }
 
 #[test]
+fn an_exit_without_shutdown_fails() {
+    let mut client = Client::start();
+    client.notify("exit", Value::Null);
+    let status = client.child.wait().unwrap();
+    assert_eq!(status.code(), Some(1));
+}
+
+#[test]
 fn a_newer_text_supersedes_the_check_of_an_older_one() {
     let dir = tempfile::tempdir().unwrap();
     let uri = uri_of(&dir.path().join("demo.gen"));

@@ -23,6 +23,8 @@ const DEFAULT_MAX_STATES: usize = 10_000_000;
 pub struct Settings {
     /// How long a save check may explore (then `incomplete`).
     pub timeout: Duration,
+    /// `--max-memory`: the state storage of a save check.
+    pub max_memory: usize,
     /// The documentation URI template of codes (`{code}` replaced).
     pub code_url: Option<String>,
 }
@@ -130,6 +132,7 @@ pub fn run(job: Job, settings: &Settings) -> Done {
     let options = CheckOptions::new()
         .behaviour(job.full)
         .timeout(Some(config.timeout.unwrap_or(settings.timeout)))
+        .max_memory(settings.max_memory)
         .max_states(config.max_states.unwrap_or(DEFAULT_MAX_STATES))
         .max_instances(
             config

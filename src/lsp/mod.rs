@@ -33,7 +33,7 @@ use lsp_types::{
 
 use self::check::{Document, Done, Job, Settings};
 use crate::cli::LspArgs;
-use crate::commands::{EXIT_OK, EXIT_USAGE};
+use crate::commands::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 type Fallible<T> = Result<T, Box<dyn Error + Send + Sync>>;
 
@@ -41,7 +41,7 @@ type Fallible<T> = Result<T, Box<dyn Error + Send + Sync>>;
 pub fn run(args: &LspArgs) -> u8 {
     let (connection, io_threads) = Connection::stdio();
     let status = match serve(&connection, args) {
-        Ok(()) => EXIT_OK,
+        Ok(status) => status,
         Err(e) => {
             eprintln!("genom-check lsp: {e}");
             EXIT_USAGE
@@ -77,7 +77,9 @@ fn capabilities() -> ServerCapabilities {
     }
 }
 
-fn serve(connection: &Connection, args: &LspArgs) -> Fallible<()> {
+/// Serves until `exit`: 0 after a `shutdown`, 1 without (as the protocol
+/// says).
+fn serve(connection: &Connection, args: &LspArgs) -> Fallible<u8> {
     let (id, params) = connection.initialize_start()?;
     let result = InitializeResult {
         capabilities: capabilities(),
@@ -98,6 +100,7 @@ fn serve(connection: &Connection, args: &LspArgs) -> Fallible<()> {
         .unwrap_or(false);
     let settings = Settings {
         timeout: args.timeout,
+        max_memory: args.max_memory,
         code_url,
     };
     let worker = worker::start(settings)?;
@@ -113,11 +116,11 @@ fn serve(connection: &Connection, args: &LspArgs) -> Fallible<()> {
             recv(connection.receiver) -> message => match message? {
                 Message::Request(request) => {
                     if connection.handle_shutdown(&request)? {
-                        return Ok(());
+                        return Ok(EXIT_OK);
                     }
                     server.request(request)?;
                 }
-                Message::Notification(n) if n.method == "exit" => return Ok(()),
+                Message::Notification(n) if n.method == "exit" => return Ok(EXIT_ERRORS),
                 Message::Notification(n) => server.notification(n)?,
                 Message::Response(_) => {}
             },
