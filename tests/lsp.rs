@@ -584,3 +584,35 @@ fn includes_get_their_own_diagnostics_and_definitions() {
     );
     client.shutdown();
 }
+
+#[test]
+fn a_codel_name_in_next_leads_to_its_codel() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs/pilot.gen");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let uri = uri_of(&path);
+    let mut client = Client::start();
+    client.open(&uri, &text);
+    client.diagnostics(&uri);
+    // `next: goto, stop;` of the start codel.
+    let (line, column) = text
+        .lines()
+        .enumerate()
+        .find_map(|(i, l)| Some((i, l.find("next: goto")? + "next: ".len())))
+        .unwrap();
+    let at = json!({ "textDocument": { "uri": uri },
+                     "position": { "line": line, "character": column + 1 } });
+    let definition = client.request("textDocument/definition", at.clone());
+    let declared = text
+        .lines()
+        .position(|l| l.contains("exec codel goto"))
+        .unwrap();
+    assert_eq!(definition["range"]["start"]["line"], declared);
+    let hover = client.request("textDocument/hover", at);
+    let facts = hover["contents"]["value"].as_str().unwrap();
+    assert!(
+        facts.starts_with("**exec codel** `moveDistance::goto`"),
+        "{facts}"
+    );
+    assert!(facts.contains("on-inter: `stop`"), "{facts}");
+    client.shutdown();
+}
