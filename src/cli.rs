@@ -50,6 +50,7 @@ impl Cli {
             Some(Command::Check(a)) => Some(a.max_memory),
             Some(Command::Export(a)) => Some(a.max_memory),
             Some(Command::Budget(a)) => Some(a.max_memory),
+            Some(Command::Lsp(a)) => Some(a.max_memory),
             Some(
                 Command::Explain(_)
                 | Command::Generate(_)
@@ -81,6 +82,23 @@ pub enum Command {
     Completions(CompletionsArgs),
     /// Print the manual page (roff), e.g. `genom-check manpage > genom-check.1`.
     Manpage,
+    /// Run a Language Server on standard input and output, for editors
+    /// (docs/editors.md).
+    Lsp(LspArgs),
+}
+
+/// Arguments of `lsp`.
+#[derive(Debug, Clone, Args)]
+pub struct LspArgs {
+    /// How long the full check run on each save may explore, e.g. `10s`
+    /// (then `incomplete`; `genom-check.toml`'s timeout wins).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration, default_value = "10s")]
+    pub timeout: std::time::Duration,
+
+    /// Bound the server's memory, e.g. `512M`, `4G` (checks past it end
+    /// `incomplete`).
+    #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "4G")]
+    pub max_memory: usize,
 }
 
 /// Arguments of `completions`.

@@ -61,14 +61,16 @@ pub(crate) fn check(
         .diagnostics
         .iter()
         .any(|d| d.severity == Severity::Error && d.code != genom_model::Code::CodelOverrun);
-    let explore = options.runs_behaviour() && clean;
-    if let Some(c) = result.component.take_if(|_| explore) {
-        if let Some(v) = genom_checker::verify_genom3(&c, options, started) {
-            result.extend(v.diagnostics);
-            result.statistics = Some(v.statistics);
-            result.response_times = v.response_times;
-        }
-        result.component = Some(c);
+    // (The component stays in the result: `--static-only` and unclean
+    // checks keep it too.)
+    let explored = match (options.runs_behaviour() && clean, result.component.as_ref()) {
+        (true, Some(c)) => genom_checker::verify_genom3(c, options, started),
+        _ => None,
+    };
+    if let Some(v) = explored {
+        result.extend(v.diagnostics);
+        result.statistics = Some(v.statistics);
+        result.response_times = v.response_times;
     }
     Ok(result)
 }

@@ -8,6 +8,6 @@ mod genom3;
 mod pipeline;
 
 pub use pipeline::{
-    CheckOptions, CheckResult, InputError, Inputs, check_file, check_path, check_source, detect,
-    display, is_stdin,
+    CheckOptions, CheckResult, InputError, Inputs, check_file, check_path, check_source,
+    check_text, detect, display, is_stdin,
 };

@@ -9,6 +9,7 @@ mod allocator;
 mod cli;
 mod commands;
 mod config;
+mod lsp;
 mod suppress;
 mod terminal;
 

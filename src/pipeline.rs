@@ -108,6 +108,19 @@ pub fn check_path(
     } else {
         path
     };
+    check_text(path, text, inputs, options)
+}
+
+/// Checks `text` as the content of the file at `path` (which need not
+/// exist, or may hold older text: an editor's unsaved buffer); its includes
+/// are read from disk next to `path`. Fails only when the WCET file cannot
+/// be read, or is given for a LANGUAGE.md file.
+pub fn check_text(
+    path: &Path,
+    text: String,
+    inputs: &Inputs,
+    options: &CheckOptions,
+) -> Result<CheckResult, InputError> {
     let dialect = inputs.dialect.unwrap_or_else(|| detect(&text));
     match dialect {
         Dialect::Gen if inputs.wcet_file.is_some() => Err(InputError::WcetNeedsGenom3 {

@@ -26,6 +26,7 @@ pub fn run(cli: Cli) -> u8 {
         Some(Command::Budget(args)) => budget::run(&args, &cli.output),
         Some(Command::Completions(args)) => documents::completions(&args),
         Some(Command::Manpage) => documents::manpage(),
+        Some(Command::Lsp(args)) => crate::lsp::run(&args),
         None => check::run(&cli.check, &cli.output),
     }
 }

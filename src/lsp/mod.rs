@@ -1,0 +1,322 @@
+//! `genom-check lsp`: a Language Server over standard input and output.
+//! Open and edited documents get the static checks, saved ones the whole
+//! check (behaviour, bounded by a timeout, reported as `$/progress`);
+//! their diagnostics are pushed. Checks run on a worker thread, newest
+//! text first (a check of an outdated text is dropped). It answers
+//! document symbols, go-to-definition and hover from the component model
+//! of the last check.
+
+mod check;
+mod navigate;
+mod position;
+mod publish;
+mod worker;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::error::Error;
+
+use lsp_server::{Connection, ErrorCode, Message, Notification, Request, RequestId, Response};
+use lsp_types::notification::{
+    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument,
+    Notification as _, Progress, PublishDiagnostics,
+};
+use lsp_types::request::{
+    DocumentSymbolRequest, GotoDefinition, HoverRequest, Request as _, WorkDoneProgressCreate,
+};
+use lsp_types::{
+    HoverProviderCapability, InitializeResult, OneOf, ProgressParams, ProgressParamsValue,
+    ProgressToken, PublishDiagnosticsParams, SaveOptions, ServerCapabilities, ServerInfo,
+    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
+    TextDocumentSyncSaveOptions, Uri, WorkDoneProgress, WorkDoneProgressBegin,
+    WorkDoneProgressCreateParams, WorkDoneProgressEnd,
+};
+
+use self::check::{Document, Done, Job, Settings};
+use crate::cli::LspArgs;
+use crate::commands::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
+
+type Fallible<T> = Result<T, Box<dyn Error + Send + Sync>>;
+
+/// Serves one client on standard input and output until it exits.
+pub fn run(args: &LspArgs) -> u8 {
+    let (connection, io_threads) = Connection::stdio();
+    let status = match serve(&connection, args) {
+        Ok(status) => status,
+        Err(e) => {
+            eprintln!("genom-check lsp: {e}");
+            EXIT_USAGE
+        }
+    };
+    drop(connection);
+    match io_threads.join() {
+        Ok(()) => status,
+        Err(e) => {
+            eprintln!("genom-check lsp: {e}");
+            EXIT_USAGE
+        }
+    }
+}
+
+/// What the server offers.
+fn capabilities() -> ServerCapabilities {
+    ServerCapabilities {
+        text_document_sync: Some(TextDocumentSyncCapability::Options(
+            TextDocumentSyncOptions {
+                open_close: Some(true),
+                change: Some(TextDocumentSyncKind::FULL),
+                save: Some(TextDocumentSyncSaveOptions::SaveOptions(SaveOptions {
+                    include_text: Some(false),
+                })),
+                ..TextDocumentSyncOptions::default()
+            },
+        )),
+        hover_provider: Some(HoverProviderCapability::Simple(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        document_symbol_provider: Some(OneOf::Left(true)),
+        ..ServerCapabilities::default()
+    }
+}
+
+/// Serves until `exit`: 0 after a `shutdown`, 1 without (as the protocol
+/// says).
+fn serve(connection: &Connection, args: &LspArgs) -> Fallible<u8> {
+    let (id, params) = connection.initialize_start()?;
+    let result = InitializeResult {
+        capabilities: capabilities(),
+        server_info: Some(ServerInfo {
+            name: "genom-check".to_owned(),
+            version: Some(env!("CARGO_PKG_VERSION").to_owned()),
+        }),
+    };
+    connection.initialize_finish(id, serde_json::to_value(result)?)?;
+    let code_url = params
+        .get("initializationOptions")
+        .and_then(|o| o.get("codeUrl"))
+        .and_then(serde_json::Value::as_str)
+        .map(str::to_owned);
+    let progress = params
+        .pointer("/capabilities/window/workDoneProgress")
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(false);
+    let settings = Settings {
+        timeout: args.timeout,
+        max_memory: args.max_memory,
+        code_url,
+    };
+    let worker = worker::start(settings)?;
+    let mut server = Server {
+        connection,
+        jobs: worker.jobs,
+        progress,
+        requests: 0,
+        documents: BTreeMap::new(),
+    };
+    loop {
+        crossbeam_channel::select! {
+            recv(connection.receiver) -> message => match message? {
+                Message::Request(request) => {
+                    if connection.handle_shutdown(&request)? {
+                        return Ok(EXIT_OK);
+                    }
+                    server.request(request)?;
+                }
+                Message::Notification(n) if n.method == "exit" => return Ok(EXIT_ERRORS),
+                Message::Notification(n) => server.notification(n)?,
+                Message::Response(_) => {}
+            },
+            recv(worker.done) -> done => server.finished(done?)?,
+        }
+    }
+}
+
+/// The server's state: the open documents by URI.
+struct Server<'a> {
+    connection: &'a Connection,
+    /// Checks to run.
+    jobs: crossbeam_channel::Sender<Job>,
+    /// Whether the client shows `$/progress`.
+    progress: bool,
+    /// Requests sent to the client so far (for their ids).
+    requests: u64,
+    documents: BTreeMap<String, Document>,
+}
+
+impl Server<'_> {
+    fn notification(&mut self, n: Notification) -> Fallible<()> {
+        match n.method.as_str() {
+            DidOpenTextDocument::METHOD => {
+                let p: lsp_types::DidOpenTextDocumentParams = serde_json::from_value(n.params)?;
+                let doc = Document::new(p.text_document.uri, p.text_document.text);
+                self.recheck(doc, false)
+            }
+            DidChangeTextDocument::METHOD => {
+                let p: lsp_types::DidChangeTextDocumentParams = serde_json::from_value(n.params)?;
+                let key = p.text_document.uri.as_str().to_owned();
+                let (Some(mut doc), Some(change)) = (
+                    self.documents.remove(&key),
+                    p.content_changes.into_iter().last(),
+                ) else {
+                    return Ok(());
+                };
+                doc.text = change.text;
+                self.recheck(doc, false)
+            }
+            DidSaveTextDocument::METHOD => {
+                let p: lsp_types::DidSaveTextDocumentParams = serde_json::from_value(n.params)?;
+                match self.documents.remove(p.text_document.uri.as_str()) {
+                    Some(doc) => self.recheck(doc, true),
+                    None => Ok(()),
+                }
+            }
+            DidCloseTextDocument::METHOD => {
+                let p: lsp_types::DidCloseTextDocumentParams = serde_json::from_value(n.params)?;
+                let Some(mut doc) = self.documents.remove(p.text_document.uri.as_str()) else {
+                    return Ok(());
+                };
+                if let Some((token, _)) = doc.progress.take() {
+                    self.end_progress(token)?;
+                }
+                self.clear(&doc)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Asks for a check of `doc` (statically, or fully when `full`) and
+    /// keeps it.
+    fn recheck(&mut self, mut doc: Document, full: bool) -> Fallible<()> {
+        let job = doc.job(full);
+        if full && self.progress && doc.progress.is_none() {
+            doc.progress = Some((self.begin_progress(&doc)?, job.generation));
+        }
+        self.jobs.send(job)?;
+        self.documents.insert(doc.uri.as_str().to_owned(), doc);
+        Ok(())
+    }
+
+    /// A check ended: unless its document changed since, its diagnostics
+    /// are published and its result kept.
+    fn finished(&mut self, done: Done) -> Fallible<()> {
+        let key = done.job.uri.as_str().to_owned();
+        let Some(mut doc) = self.documents.remove(&key) else {
+            return Ok(());
+        };
+        if done.job.generation == doc.generation {
+            let now: BTreeSet<String> = done.files.keys().cloned().collect();
+            for (uri, diagnostics) in done.files.into_values() {
+                self.publish(uri, diagnostics)?;
+            }
+            // Includes whose diagnostics are gone are cleared.
+            for stale in doc.published.difference(&now) {
+                if let Ok(uri) = stale.parse::<Uri>() {
+                    self.publish(uri, Vec::new())?;
+                }
+            }
+            doc.published = now;
+            doc.checked = done.result.map(|r| (done.job.text, r));
+        }
+        // A save's progress ends with its check, or with a newer one.
+        if let Some((token, _)) = doc.progress.take_if(|(_, g)| *g <= done.job.generation) {
+            self.end_progress(token)?;
+        }
+        self.documents.insert(key, doc);
+        Ok(())
+    }
+
+    /// Creates a progress token and begins it: "checking NAME".
+    fn begin_progress(&mut self, doc: &Document) -> Fallible<ProgressToken> {
+        self.requests += 1;
+        let token = ProgressToken::String(format!("genom-check/{}", self.requests));
+        let create = Request::new(
+            RequestId::from(format!("genom-check/{}", self.requests)),
+            WorkDoneProgressCreate::METHOD.to_owned(),
+            WorkDoneProgressCreateParams {
+                token: token.clone(),
+            },
+        );
+        self.connection.sender.send(Message::Request(create))?;
+        let name = doc
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let begin = WorkDoneProgress::Begin(WorkDoneProgressBegin {
+            title: format!("genom-check: checking {name}"),
+            cancellable: Some(false),
+            message: Some("whole check (behaviour and timing)".to_owned()),
+            percentage: None,
+        });
+        self.send_progress(token.clone(), begin)?;
+        Ok(token)
+    }
+
+    fn end_progress(&self, token: ProgressToken) -> Fallible<()> {
+        let end = WorkDoneProgress::End(WorkDoneProgressEnd { message: None });
+        self.send_progress(token, end)
+    }
+
+    fn send_progress(&self, token: ProgressToken, value: WorkDoneProgress) -> Fallible<()> {
+        let params = ProgressParams {
+            token,
+            value: ProgressParamsValue::WorkDone(value),
+        };
+        let n = Notification::new(Progress::METHOD.to_owned(), params);
+        self.connection.sender.send(Message::Notification(n))?;
+        Ok(())
+    }
+
+    /// Clears every diagnostic a closed document published.
+    fn clear(&self, doc: &Document) -> Fallible<()> {
+        for uri in &doc.published {
+            if let Ok(uri) = uri.parse::<Uri>() {
+                self.publish(uri, Vec::new())?;
+            }
+        }
+        Ok(())
+    }
+
+    fn publish(&self, uri: Uri, diagnostics: Vec<lsp_types::Diagnostic>) -> Fallible<()> {
+        let params = PublishDiagnosticsParams::new(uri, diagnostics, None);
+        let n = Notification::new(PublishDiagnostics::METHOD.to_owned(), params);
+        self.connection.sender.send(Message::Notification(n))?;
+        Ok(())
+    }
+
+    fn request(&self, request: Request) -> Fallible<()> {
+        let Request { id, method, params } = request;
+        let response = match method.as_str() {
+            DocumentSymbolRequest::METHOD => {
+                let p: lsp_types::DocumentSymbolParams = serde_json::from_value(params)?;
+                let symbols = self
+                    .documents
+                    .get(p.text_document.uri.as_str())
+                    .map(navigate::symbols);
+                Response::new_ok(id, symbols)
+            }
+            GotoDefinition::METHOD => {
+                let p: lsp_types::GotoDefinitionParams = serde_json::from_value(params)?;
+                let at = p.text_document_position_params;
+                let found = self
+                    .documents
+                    .get(at.text_document.uri.as_str())
+                    .and_then(|d| navigate::definition(d, at.position));
+                Response::new_ok(id, found)
+            }
+            HoverRequest::METHOD => {
+                let p: lsp_types::HoverParams = serde_json::from_value(params)?;
+                let at = p.text_document_position_params;
+                let found = self
+                    .documents
+                    .get(at.text_document.uri.as_str())
+                    .and_then(|d| navigate::hover(d, at.position));
+                Response::new_ok(id, found)
+            }
+            _ => Response::new_err(
+                id,
+                ErrorCode::MethodNotFound as i32,
+                format!("genom-check lsp does not handle `{method}`"),
+            ),
+        };
+        self.connection.sender.send(Message::Response(response))?;
+        Ok(())
+    }
+}
