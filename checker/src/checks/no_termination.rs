@@ -60,8 +60,8 @@ pub fn no_termination_genom3(
         "no chain of yields from here reaches `ether`",
     );
     nor_from(d, others).with_help(
-        "add `ether` to a yield of a state of the loop; only an interruption (`interrupts`, \
-         `kill`, `abort_activity`) ends it now, and never with success",
+        "add `ether` to a yield of a state of the loop; as it is, only an interruption \
+         (`interrupts`, `kill`, `abort_activity`) ends it, through its `stop` codel if it has one",
     )
 }
 
