@@ -616,3 +616,29 @@ fn a_codel_name_in_next_leads_to_its_codel() {
     assert!(facts.contains("on-inter: `stop`"), "{facts}");
     client.shutdown();
 }
+
+#[test]
+fn a_type_name_leads_to_its_idl_declaration() {
+    // pilot.gen's export block uses `DEMO_STATE_STR`, declared in the
+    // included demoStruct.idl.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs/pilot.gen");
+    let idl = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs/demoStruct.idl");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let uri = uri_of(&path);
+    let mut client = Client::start();
+    client.open(&uri, &text);
+    client.diagnostics(&uri);
+    let (line, column) = text
+        .lines()
+        .enumerate()
+        .find_map(|(i, l)| Some((i, l.find("  DEMO_STATE_STR state")? + 3)))
+        .unwrap();
+    let at = json!({ "textDocument": { "uri": uri },
+                     "position": { "line": line, "character": column } });
+    let definition = client.request("textDocument/definition", at.clone());
+    assert_eq!(definition["uri"], uri_of(&idl), "{definition:#}");
+    let hover = client.request("textDocument/hover", at);
+    let facts = hover["contents"]["value"].as_str().unwrap();
+    assert!(facts.contains("type `DEMO_STATE_STR`"), "{facts}");
+    client.shutdown();
+}

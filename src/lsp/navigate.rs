@@ -35,6 +35,8 @@ enum Thing {
     Codel(genom_model::component::CodelId),
     Structure,
     Port,
+    /// A named IDL type (`struct`, `enum`, `typedef`...).
+    Type,
 }
 
 /// Everything named in `c`, services first.
@@ -66,6 +68,16 @@ fn declarations(c: &Component) -> Vec<Declared<'_>> {
             span: s.span,
             parent: None,
             detail: s.kind.keyword().to_owned(),
+        });
+    }
+    for (_, t) in c.types.iter() {
+        out.push(Declared {
+            kind: Thing::Type,
+            // `geo::Pose` is named `Pose` where it is written.
+            name: t.name.rsplit("::").next().unwrap_or(&t.name),
+            span: t.span,
+            parent: None,
+            detail: format!("type `{}`", t.name),
         });
     }
     for p in c.genom3.iter().flat_map(|g| g.ports.iter()) {
@@ -144,6 +156,7 @@ fn symbol(d: &Declared<'_>, range: Range, children: Option<Vec<DocumentSymbol>>)
         Thing::Codel(_) => SymbolKind::FUNCTION,
         Thing::Structure => SymbolKind::STRUCT,
         Thing::Port => SymbolKind::INTERFACE,
+        Thing::Type => SymbolKind::STRUCT,
     };
     symbol_at(d.name, kind, &d.detail, range, children)
 }
@@ -249,6 +262,7 @@ pub fn hover(doc: &Document, at: Position) -> Option<Hover> {
         Thing::Thread(id) => facts::thread(c, id),
         Thing::Codel(id) => facts::codel(c, id),
         Thing::Structure | Thing::Port => format!("**{}** `{}`", d.detail, d.name),
+        Thing::Type => format!("**{}**", d.detail),
     };
     Some(Hover {
         contents: HoverContents::Markup(MarkupContent {
