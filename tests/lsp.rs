@@ -642,3 +642,53 @@ fn a_type_name_leads_to_its_idl_declaration() {
     assert!(facts.contains("type `DEMO_STATE_STR`"), "{facts}");
     client.shutdown();
 }
+
+/// A save check still running when the text changes is cancelled (the
+/// server says so in a log message) and the new text is checked. The
+/// component is one of issue 14's large generated ones: its full check
+/// takes far longer than the pause before the change.
+#[test]
+fn a_change_cancels_the_running_save_check() {
+    let mut cfg = genom_generate::GeneratorConfig::new(1, 20);
+    cfg.codels_per_service = 5;
+    cfg.threads = 3;
+    cfg.init = true;
+    cfg.autos = 1;
+    let text = genom_generate::generate(&cfg);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.gen");
+    std::fs::write(&path, &text).unwrap();
+    let uri = uri_of(&path);
+    let mut client = Client::start();
+    client.open(&uri, &text);
+    client.diagnostics(&uri);
+    client.notify(
+        "textDocument/didSave",
+        json!({ "textDocument": { "uri": uri } }),
+    );
+    // Let the worker take the save check before the text changes.
+    std::thread::sleep(Duration::from_millis(500));
+    let changed = format!("{text}\n");
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 2 },
+                "contentChanges": [ { "text": changed } ] }),
+    );
+    let mut cancelled = false;
+    let mut published = false;
+    while !(cancelled && published) {
+        let message = client.next();
+        if message["method"] == "window/logMessage" {
+            let said = message["params"]["message"].as_str().unwrap_or_default();
+            cancelled |= said.contains("cancelled the running check");
+        }
+        if message["method"] == "textDocument/publishDiagnostics" {
+            // The changed text's static check: no `incomplete` from the
+            // cancelled exploration is ever published.
+            let d = message["params"]["diagnostics"].as_array().unwrap();
+            assert!(!codes(d).contains(&"incomplete"), "{message}");
+            published = true;
+        }
+    }
+    client.shutdown();
+}

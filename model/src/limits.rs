@@ -104,9 +104,10 @@ impl Watch {
         }
     }
 
-    /// The limit passed, if any: time first, then the process's heap.
+    /// The limit passed, if any: time first (or a [`cancel`]), then the
+    /// process's heap.
     pub fn exceeded(&self) -> Option<Limit> {
-        if self.deadline.is_some_and(|d| Instant::now() >= d) {
+        if cancelled() || self.deadline.is_some_and(|d| Instant::now() >= d) {
             return Some(Limit::Time);
         }
         self.heap_exceeded().then_some(Limit::Memory)
@@ -116,6 +117,27 @@ impl Watch {
     pub fn heap_exceeded(&self) -> bool {
         heap::in_use() >= soft_bound(self.max_memory)
     }
+}
+
+/// Whether a check of this process is asked to stop ([`cancel`]).
+static CANCELLED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks the check running in this process to stop at its next limit test,
+/// as if its deadline had passed (`on`), or lets the next one run
+/// (`!on`). The language server cancels a check whose text changed; the
+/// command line never does.
+pub fn cancel(on: bool) {
+    CANCELLED.store(on, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether [`cancel`] asked the running check to stop.
+pub fn cancelled() -> bool {
+    CANCELLED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Whether `limits`-style deadline `d` passed, or the check was cancelled.
+pub fn out_of_time(deadline: Option<Instant>) -> bool {
+    cancelled() || deadline.is_some_and(|d| Instant::now() >= d)
 }
 
 /// `incomplete`: `limit` passed while a front-end was parsing, at `at`;

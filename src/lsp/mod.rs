@@ -107,6 +107,7 @@ fn serve(connection: &Connection, args: &LspArgs) -> Fallible<u8> {
     let mut server = Server {
         connection,
         jobs: worker.jobs,
+        running: std::sync::Arc::clone(&worker.running),
         progress,
         requests: 0,
         documents: BTreeMap::new(),
@@ -134,6 +135,8 @@ struct Server<'a> {
     connection: &'a Connection,
     /// Checks to run.
     jobs: crossbeam_channel::Sender<Job>,
+    /// The check running now (to cancel it when its text changes).
+    running: std::sync::Arc<worker::Running>,
     /// Whether the client shows `$/progress`.
     progress: bool,
     /// Requests sent to the client so far (for their ids).
@@ -188,6 +191,12 @@ impl Server<'_> {
         let job = doc.job(full);
         if full && self.progress && doc.progress.is_none() {
             doc.progress = Some((self.begin_progress(&doc)?, job.generation));
+        }
+        if self.running.supersede(job.uri.as_str(), job.generation) {
+            self.log(&format!(
+                "cancelled the running check of {}: its text changed",
+                job.uri.as_str()
+            ))?;
         }
         self.jobs.send(job)?;
         self.documents.insert(doc.uri.as_str().to_owned(), doc);
@@ -271,6 +280,21 @@ impl Server<'_> {
                 self.publish(uri, Vec::new())?;
             }
         }
+        Ok(())
+    }
+
+    /// A `window/logMessage` (information) to the client.
+    fn log(&self, message: &str) -> Fallible<()> {
+        let params = lsp_types::LogMessageParams {
+            typ: lsp_types::MessageType::INFO,
+            message: message.to_owned(),
+        };
+        let n = Notification::new(
+            <lsp_types::notification::LogMessage as lsp_types::notification::Notification>::METHOD
+                .to_owned(),
+            params,
+        );
+        self.connection.sender.send(Message::Notification(n))?;
         Ok(())
     }
 

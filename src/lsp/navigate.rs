@@ -71,10 +71,15 @@ fn declarations(c: &Component) -> Vec<Declared<'_>> {
         });
     }
     for (_, t) in c.types.iter() {
+        // An IDS block's anonymous struct is the block itself (above).
+        let short = t.name.rsplit("::").next().unwrap_or(&t.name);
+        if c.structures.values().any(|s| s.block == short) {
+            continue;
+        }
         out.push(Declared {
             kind: Thing::Type,
             // `geo::Pose` is named `Pose` where it is written.
-            name: t.name.rsplit("::").next().unwrap_or(&t.name),
+            name: short,
             span: t.span,
             parent: None,
             detail: format!("type `{}`", t.name),

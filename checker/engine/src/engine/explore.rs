@@ -210,7 +210,7 @@ fn check_limits<A: Copy, Z: Subsumes>(
     if expanded as u64 % (16 * period.max(1)) != 0 {
         return None;
     }
-    if limits.deadline.is_some_and(|d| Instant::now() >= d) {
+    if genom_model::limits::out_of_time(limits.deadline) {
         return Some(Stop::Time);
     }
     memory_exceeded(store, limits).then_some(Stop::Memory)
@@ -242,7 +242,7 @@ fn check_successor<A: Copy, Z: Subsumes>(
     if transitions % period.max(1) != 0 {
         return None;
     }
-    if limits.deadline.is_some_and(|d| Instant::now() >= d) {
+    if genom_model::limits::out_of_time(limits.deadline) {
         return Some(Stop::Time);
     }
     memory_exceeded(store, limits).then_some(Stop::Memory)

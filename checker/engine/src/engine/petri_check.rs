@@ -13,7 +13,6 @@
 //! the explorer of [`super::system`].
 
 use std::collections::{HashMap, HashSet};
-use std::time::Instant;
 
 use genom_model::component::Idx;
 use genom_model::petri::{PRIORITY_STEP, PetriNet, TransitionId};
@@ -280,7 +279,7 @@ impl<'n> Graph<'n> {
         if self.out.markings.len() + self.cascades.len() >= self.limits.max_states {
             return Some(Stop::States);
         }
-        let late = self.limits.deadline.is_some_and(|d| Instant::now() >= d);
+        let late = genom_model::limits::out_of_time(self.limits.deadline);
         late.then_some(Stop::Time)
     }
 

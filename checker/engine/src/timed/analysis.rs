@@ -107,10 +107,7 @@ pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
     for (members, frozen) in timed_explorations(c) {
         // Past the deadline, a cluster is not even built (a large one takes
         // long to set up): it is left unproven.
-        if budget
-            .deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
-        {
+        if genom_model::limits::out_of_time(budget.deadline) {
             out.stopped.get_or_insert(crate::engine::Stop::Time);
             out.unproven.extend(members.iter().copied());
             continue;
