@@ -174,11 +174,7 @@ fn event_id(name: &str) -> EventId {
     EventId(u32::try_from(i).unwrap_or(0))
 }
 
-fn sanitize(s: &str) -> String {
-    s.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
-}
+use super::names::sanitize;
 
 impl<'a> Builder<'a> {
     fn new(c: &'a Component, b: &'a Behaviour) -> Self {
@@ -237,29 +233,11 @@ impl<'a> Builder<'a> {
     }
 
     fn fresh(&mut self, want: &str) -> String {
-        let base = sanitize(want);
-        let mut name = base.clone();
-        let mut k = 2;
-        while self.names.contains(&name)
-            || name.starts_with("tmp") && name[3..].parse::<u32>().is_ok()
-        {
-            name = format!("{base}_{k}");
-            k += 1;
-        }
-        self.names.insert(name.clone());
-        name
+        super::names::fresh(&mut self.names, want)
     }
 
     fn fresh_label(&mut self, want: &str) -> String {
-        let base = sanitize(want);
-        let mut name = base.clone();
-        let mut k = 2;
-        while self.label_names.contains(&name) {
-            name = format!("{base}_{k}");
-            k += 1;
-        }
-        self.label_names.insert(name.clone());
-        name
+        super::names::fresh(&mut self.label_names, want)
     }
 
     fn local(&mut self) -> String {

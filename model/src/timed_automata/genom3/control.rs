@@ -13,16 +13,12 @@
 
 use crate::component::ServiceId;
 use crate::timed_automata::{
-    ClockConstraint, CmpOp, Edge, Expr, Location, LocationId, Process, ProcessKind, Stmt,
+    ClockConstraint, CmpOp, Edge, Expr, Location, Process, ProcessKind, Stmt,
 };
 
 use super::read::CtlKind;
 use super::stmts::{idx, is, set};
-use super::{Builder, DRAIN, RUN, event};
-
-fn lid(i: usize) -> LocationId {
-    LocationId(u32::try_from(i).unwrap_or(u32::MAX))
-}
+use super::{Builder, DRAIN, RUN};
 
 /// A request's effect once its control codels succeeded.
 #[derive(Debug, Clone, Copy)]
@@ -78,18 +74,7 @@ impl Builder<'_> {
     }
 
     fn ctl_edge(&self, from: usize, to: usize, ev: &str, guard: Expr, desc: String) -> Edge {
-        Edge {
-            from: lid(from),
-            to: lid(to),
-            event: event(ev),
-            guard,
-            clock_guard: Vec::new(),
-            statements: Vec::new(),
-            urgent: false,
-            labels: Vec::new(),
-            span: self.c.name.span,
-            description: desc,
-        }
+        super::plain_edge((from, to), ev, guard, self.c.name.span, desc)
     }
 
     /// The control thread's process.

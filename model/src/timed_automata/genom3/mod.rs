@@ -85,10 +85,34 @@ fn event(name: &str) -> EventId {
     EventId(u32::try_from(i).unwrap_or(0))
 }
 
-fn sanitize(s: &str) -> String {
-    s.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
+use super::names::sanitize;
+
+/// Location `i` of a process.
+fn lid(i: usize) -> crate::timed_automata::LocationId {
+    crate::timed_automata::LocationId(u32::try_from(i).unwrap_or(u32::MAX))
+}
+
+/// An edge from location `from` to `to` on event `ev` under `guard`, with
+/// no clock guard, statement or label yet.
+fn plain_edge(
+    (from, to): (usize, usize),
+    ev: &str,
+    guard: Expr,
+    span: Span,
+    desc: String,
+) -> crate::timed_automata::Edge {
+    crate::timed_automata::Edge {
+        from: lid(from),
+        to: lid(to),
+        event: event(ev),
+        guard,
+        clock_guard: Vec::new(),
+        statements: Vec::new(),
+        urgent: false,
+        labels: Vec::new(),
+        span,
+        description: desc,
+    }
 }
 
 /// The variables of one slot.
@@ -252,29 +276,11 @@ impl<'a> Builder<'a> {
     }
 
     fn fresh(&mut self, want: &str) -> String {
-        let base = sanitize(want);
-        let mut name = base.clone();
-        let mut k = 2;
-        while self.names.contains(&name)
-            || name.starts_with("tmp") && name[3..].parse::<u32>().is_ok()
-        {
-            name = format!("{base}_{k}");
-            k += 1;
-        }
-        self.names.insert(name.clone());
-        name
+        super::names::fresh(&mut self.names, want)
     }
 
     fn fresh_label(&mut self, want: &str) -> String {
-        let base = sanitize(want);
-        let mut name = base.clone();
-        let mut k = 2;
-        while self.labels.contains(&name) {
-            name = format!("{base}_{k}");
-            k += 1;
-        }
-        self.labels.insert(name.clone());
-        name
+        super::names::fresh(&mut self.labels, want)
     }
 
     /// A local variable name, unique in the network.

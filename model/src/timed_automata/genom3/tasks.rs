@@ -13,17 +13,13 @@
 //! shutdown killed.
 
 use crate::timed_automata::{
-    ClockConstraint, CmpOp, Edge, Expr, Label, LabelKind, Location, LocationId, Process, ProcessId,
+    ClockConstraint, CmpOp, Edge, Expr, Label, LabelKind, Location, Process, ProcessId,
     ProcessKind, Stmt,
 };
 
 use super::read::KeyOwner;
 use super::stmts::{idx, is, set};
-use super::{Builder, FAILED, STOPPED, event};
-
-fn lid(i: usize) -> LocationId {
-    LocationId(u32::try_from(i).unwrap_or(u32::MAX))
-}
+use super::{Builder, FAILED, STOPPED, lid};
 
 fn cc(clock: crate::timed_automata::ClockId, op: CmpOp, bound: i64) -> ClockConstraint {
     ClockConstraint { clock, op, bound }
@@ -134,18 +130,7 @@ impl Builder<'_> {
     }
 
     fn edge(&self, from: usize, to: usize, ev: &str, guard: Expr, desc: String) -> Edge {
-        Edge {
-            from: lid(from),
-            to: lid(to),
-            event: event(ev),
-            guard,
-            clock_guard: Vec::new(),
-            statements: Vec::new(),
-            urgent: false,
-            labels: Vec::new(),
-            span: self.c.name.span,
-            description: desc,
-        }
+        super::plain_edge((from, to), ev, guard, self.c.name.span, desc)
     }
 
     /// Ticks, overruns from `idle` and activations.
