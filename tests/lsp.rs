@@ -692,3 +692,48 @@ fn a_change_cancels_the_running_save_check() {
     }
     client.shutdown();
 }
+
+/// With WCETs (here from the project's `genom-check.toml`), a save check
+/// computes the response times and hover on a service shows its worst
+/// case (`r1_paused_chain`: 23 ms, tests/genom3_response.rs).
+#[test]
+fn hover_shows_the_worst_response_time_after_a_save() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/genom3/response");
+    let text = std::fs::read_to_string(root.join("r1_paused_chain.gen")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("r1.gen");
+    std::fs::write(&path, &text).unwrap();
+    std::fs::copy(
+        root.join("r1_paused_chain.wcet"),
+        dir.path().join("r1.wcet"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("genom-check.toml"),
+        "[wcet]\n\"r1.gen\" = \"r1.wcet\"\n",
+    )
+    .unwrap();
+    let uri = uri_of(&path);
+    let mut client = Client::start();
+    client.open(&uri, &text);
+    client.diagnostics(&uri);
+    let (line, column) = text
+        .lines()
+        .enumerate()
+        .find_map(|(i, l)| Some((i, l.find("activity go")? + "activity ".len())))
+        .unwrap();
+    let at = json!({ "textDocument": { "uri": uri },
+                     "position": { "line": line, "character": column } });
+    let before = client.request("textDocument/hover", at.clone());
+    let before = before["contents"]["value"].as_str().unwrap().to_owned();
+    assert!(!before.contains("response time"), "{before}");
+    client.notify(
+        "textDocument/didSave",
+        json!({ "textDocument": { "uri": uri } }),
+    );
+    client.diagnostics(&uri);
+    let after = client.request("textDocument/hover", at);
+    let after = after["contents"]["value"].as_str().unwrap();
+    assert!(after.contains("worst-case response time: 23ms"), "{after}");
+    client.shutdown();
+}

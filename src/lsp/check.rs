@@ -129,8 +129,11 @@ pub fn run(job: Job, settings: &Settings) -> Done {
         Ok(c) => (c.unwrap_or_default(), None),
         Err(e) => (Config::default(), Some(e.render())),
     };
+    // A save check computes the response times too (hover shows them);
+    // the timed exploration they need runs only with WCETs.
     let options = CheckOptions::new()
         .behaviour(job.full)
+        .response_times(job.full)
         .timeout(Some(config.timeout.unwrap_or(settings.timeout)))
         .max_memory(settings.max_memory)
         .max_states(config.max_states.unwrap_or(DEFAULT_MAX_STATES))

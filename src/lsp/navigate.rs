@@ -260,10 +260,26 @@ pub fn definition(doc: &Document, at: Position) -> Option<GotoDefinitionResponse
 
 /// The resolved facts of the service, thread or codel named under `at`.
 pub fn hover(doc: &Document, at: Position) -> Option<Hover> {
-    let c = doc.result()?.1.component.as_ref()?;
+    let result = doc.result()?.1;
+    let c = result.component.as_ref()?;
     let d = named_at(doc, c, at).into_iter().next()?;
     let value = match d.kind {
-        Thing::Service(id) => facts::service(c, id),
+        Thing::Service(id) => {
+            let mut text = facts::service(c, id);
+            // Computed by the last save check, when the component has WCETs.
+            if let Some(r) = result.response_times.iter().find(|r| r.service == d.name) {
+                let note = r
+                    .note
+                    .as_deref()
+                    .map(|n| format!(" ({n})"))
+                    .unwrap_or_default();
+                text.push_str(&format!(
+                    "\n\nworst-case response time: {}{note}",
+                    r.worst.human()
+                ));
+            }
+            text
+        }
         Thing::Thread(id) => facts::thread(c, id),
         Thing::Codel(id) => facts::codel(c, id),
         Thing::Structure | Thing::Port => format!("**{}** `{}`", d.detail, d.name),
