@@ -24,9 +24,7 @@ use crate::behaviour::{Behaviour, PosId, Position, ServiceMachine};
 use crate::component::{Component, ServiceId, StructureId, ThreadId};
 use crate::span::Span;
 
-use crate::timed_automata::{
-    Clock, ClockId, ClockRole, Event, EventId, Expr, IntVar, Network, VarId,
-};
+use crate::timed_automata::{Clock, ClockId, ClockRole, EventId, IntVar, Network, VarId};
 use units::{unit_ns, units};
 
 /// Classes of positions, in the order their values are numbered.
@@ -192,26 +190,7 @@ impl<'a> Builder<'a> {
         }
         let name = sanitize(&c.name.name);
         names.insert(name.clone());
-        let net = Network {
-            name,
-            unit_ns: unit,
-            horizon: 1,
-            clocks: Vec::new(),
-            vars: Vec::new(),
-            events: EVENTS
-                .iter()
-                .map(|(n, d)| Event {
-                    name: (*n).to_owned(),
-                    description: (*d).to_owned(),
-                })
-                .collect(),
-            processes: Vec::new(),
-            syncs: Vec::new(),
-            labels: Vec::new(),
-            services: Vec::new(),
-            frozen: VarId(0),
-            urgency: Expr::FALSE,
-        };
+        let net = Network::empty(name, unit, &EVENTS);
         for (n, _) in EVENTS {
             names.insert(n.to_owned());
         }

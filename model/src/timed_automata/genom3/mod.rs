@@ -47,9 +47,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::component::{Component, ServiceId};
 use crate::span::Span;
-use crate::timed_automata::{
-    Clock, ClockId, ClockRole, Event, EventId, Expr, IntVar, Network, VarId,
-};
+use crate::timed_automata::{Clock, ClockId, ClockRole, EventId, Expr, IntVar, Network, VarId};
 
 use read::Read;
 
@@ -229,26 +227,7 @@ impl<'a> Builder<'a> {
             .map(|s| (*s).to_owned())
             .collect();
         names.extend(EVENTS.iter().map(|(n, _)| (*n).to_owned()));
-        let net = Network {
-            name,
-            unit_ns: unit,
-            horizon: 1,
-            clocks: Vec::new(),
-            vars: Vec::new(),
-            events: EVENTS
-                .iter()
-                .map(|(n, d)| Event {
-                    name: (*n).to_owned(),
-                    description: (*d).to_owned(),
-                })
-                .collect(),
-            processes: Vec::new(),
-            syncs: Vec::new(),
-            labels: Vec::new(),
-            services: Vec::new(),
-            frozen: VarId(0),
-            urgency: Expr::FALSE,
-        };
+        let net = Network::empty(name, unit, &EVENTS);
         Builder {
             c,
             r,
