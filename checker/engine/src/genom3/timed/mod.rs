@@ -192,6 +192,10 @@ pub struct TimedEngine<'a> {
     /// The control thread's response clock (time since it took its
     /// request), when measured.
     pub ctl_resp: Option<usize>,
+    /// Per activity and state, with response clocks: whether a cycle of
+    /// yields or an `async` codel can be reached from it (read on every
+    /// state, so computed once).
+    pub(crate) loops: Vec<Vec<bool>>,
     /// A tick that finds its task's work unfinished is coalesced, as in
     /// GenoM3 (the task wakes again as soon as the work ends), instead of
     /// ending the exploration as a `thread-overrun` (for response times).
@@ -309,6 +313,7 @@ impl<'a> TimedEngine<'a> {
             bounds,
             resp: Vec::new(),
             ctl_resp: None,
+            loops: Vec::new(),
             coalesce: false,
         })
     }

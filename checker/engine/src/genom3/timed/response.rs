@@ -203,6 +203,10 @@ fn explore_group(
 ) -> Vec<ServiceResponse> {
     let m = te.m();
     let d_units = |s: ServiceId| deadlines.get(&s).map(|&d| (d / te.unit) as i64);
+    // The WCETs of each control service's codels that never wait.
+    let extras: Vec<i64> = (0..ctls.len())
+        .map(|j| if ctls[j] { static_part(m, te, j) } else { 0 })
+        .collect();
     let mut act_seen = vec![Seen::default(); acts.len()];
     let mut ctl_seen = vec![Seen::default(); ctls.len()];
     let e = explore(te, limits, |id, st: &TG3State| {
@@ -225,7 +229,7 @@ fn explore_group(
             if let G3Action::Call(k) = c.job {
                 let k = usize::from(k);
                 for j in (0..ctls.len()).filter(|&j| ctls[j] && usize::from(te.canon[j]) == k) {
-                    let d = d_units(m.controls[j].service).map(|d| d - static_part(m, te, j));
+                    let d = d_units(m.controls[j].service).map(|d| d - extras[j]);
                     ctl_seen[j].visit(id, sup(st, x), horizon, d);
                 }
             }
@@ -266,8 +270,7 @@ fn explore_group(
     }
     if let Some(x) = te.ctl_resp {
         for (j, seen) in ctl_seen.iter().enumerate().filter(|&(j, _)| ctls[j]) {
-            let extra = static_part(m, te, j);
-            found.push(conclude(m.controls[j].service, seen, x, extra));
+            found.push(conclude(m.controls[j].service, seen, x, extras[j]));
         }
     }
     found
@@ -409,6 +412,15 @@ impl TimedEngine<'_> {
     /// constants up to `horizon`.
     pub fn track_responses(&mut self, acts: &[bool], ctl: bool, horizon: i64) {
         self.coalesce = true;
+        let m = &self.e.m;
+        self.loops = (0..m.activities.len())
+            .map(|a| {
+                let n = m.activities[a].fsm.states.len();
+                (0..n)
+                    .map(|s| loops_from(m, Owner::Activity(a), s))
+                    .collect()
+            })
+            .collect();
         self.resp = vec![None; self.e.m.activities.len()];
         for (a, _) in acts.iter().enumerate().filter(|(_, on)| **on) {
             self.bounds.push(Some(horizon));
@@ -478,11 +490,20 @@ impl TimedEngine<'_> {
         let s = usize::from(i.state);
         if i.status == Status::Run && i.has(mark::FLAGGED) {
             let stop = m.activities[a].fsm.stop;
-            m.fsm(owner).states[s].is_async
-                || stop.is_some_and(|t| loops_from(m, owner, usize::from(t)))
+            m.fsm(owner).states[s].is_async || stop.is_some_and(|t| self.loops(a, usize::from(t)))
         } else {
-            i.status >= Status::Run && loops_from(m, owner, s)
+            i.status >= Status::Run && self.loops(a, s)
         }
+    }
+
+    /// [`loops_from`] for activity `a`'s state `s`, from the table when
+    /// response clocks are tracked.
+    fn loops(&self, a: usize, s: usize) -> bool {
+        self.loops
+            .get(a)
+            .and_then(|v| v.get(s))
+            .copied()
+            .unwrap_or_else(|| loops_from(&self.e.m, Owner::Activity(a), s))
     }
 }
 
