@@ -220,12 +220,7 @@ fn activity(r: &mut SplitMix, cfg: &Genom3Config, plan: &Plan, i: usize) -> Serv
         ("a_res", "double"),
     );
     s.throws = throws(r, plan);
-    let ins: Vec<ServiceParam> = s
-        .params
-        .iter()
-        .filter(|p| p.dir == Dir::In)
-        .cloned()
-        .collect();
+    let ins = inputs(&s.params);
     if r.chance(0.2) {
         s.validate = Some(control(r, plan, format!("{NAME}_{name}_validate"), &ins));
     }
@@ -238,17 +233,21 @@ fn activity(r: &mut SplitMix, cfg: &Genom3Config, plan: &Plan, i: usize) -> Serv
     s
 }
 
+/// The `in` parameters of a service (what its `validate` may read).
+fn inputs(params: &[ServiceParam]) -> Vec<ServiceParam> {
+    params
+        .iter()
+        .filter(|p| p.dir == Dir::In)
+        .cloned()
+        .collect()
+}
+
 fn function(r: &mut SplitMix, plan: &Plan, i: usize) -> ServicePlan {
     let name = format!("f{i}");
     let mut s = service(name.clone(), Kind::Function);
     s.params = typed_params(r, &[("f_x", "long"), ("f_k", "double")], ("f_y", "double"));
     s.throws = throws(r, plan);
-    let ins: Vec<ServiceParam> = s
-        .params
-        .iter()
-        .filter(|p| p.dir == Dir::In)
-        .cloned()
-        .collect();
+    let ins = inputs(&s.params);
     if r.chance(0.3) {
         s.validate = Some(control(r, plan, format!("{NAME}_{name}_validate"), &ins));
     }
