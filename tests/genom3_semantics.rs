@@ -193,6 +193,20 @@ fn the_tasks_start_in_order_before_any_request() {
 /// Each fixture's source and its rendered report (colour off, width 100),
 /// traces included.
 #[test]
+fn point_6_a_new_instance_runs_its_first_codel_before_any_interruption() {
+    let r = check("f6c_start_runs_first.gen");
+    assert_eq!(
+        findings(&r),
+        [(Code::UnreachableCodel, "f6c_stop".to_owned())]
+    );
+    let c = component(&r);
+    let a = analysis(c, 1);
+    let quick = c.service_named("quick").unwrap();
+    assert!(a.started.contains(&quick) && a.completed.contains(&quick));
+    assert_eq!(a.reached.len(), 2, "both `start` codels run: {:?}", a.reached);
+}
+
+#[test]
 fn each_fixture_report_is_snapshotted() {
     insta::glob!("fixtures/genom3/semantics/*.gen", |path| {
         // Relative, so that the snapshot does not name the checkout.

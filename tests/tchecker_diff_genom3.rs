@@ -15,7 +15,8 @@
 //! per activity. Runs only when `TCK_REACH` names a `tck-reach` executable
 //! (docs/testing/tchecker.md); otherwise it prints a note and passes.
 //! Generated timed components (`genom_generate::generate_genom3`, small
-//! sizes; `TCK_GENOM3_SEEDS`, default 60) are compared with `tck-reach` too.
+//! sizes; `TCK_GENOM3_SEEDS`: a count or a range `A..B`, default 60) are
+//! compared with `tck-reach` too.
 //! `TCK_ALGO` (default `covreach`), `TCK_KEEP` (a directory that keeps the
 //! models) and `TCK_MEMORY_MB` are as for `tests/tchecker_diff.rs`.
 //!
@@ -145,14 +146,17 @@ fn generated(dir: &Path, seeds: std::ops::Range<u64>) -> Vec<Case> {
         .collect()
 }
 
-/// Generated seeds compared with `tck-reach` (`TCK_GENOM3_SEEDS`, default
-/// `n`). The interpreter does not take them: it counts time in half
-/// units, and their periods against their WCETs make millions of states.
-fn seed_count(n: u64) -> u64 {
-    std::env::var("TCK_GENOM3_SEEDS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(n)
+/// Generated seeds compared with `tck-reach` (`TCK_GENOM3_SEEDS`: a count
+/// `N` for seeds `0..N`, or a range `A..B`; default `0..n`). The
+/// interpreter does not take them: it counts time in half units, and their
+/// periods against their WCETs make millions of states.
+fn seed_range(n: u64) -> std::ops::Range<u64> {
+    let var = std::env::var("TCK_GENOM3_SEEDS").unwrap_or_default();
+    let parse = |x: &str| x.trim().parse::<u64>().ok();
+    match var.split_once("..") {
+        Some((a, b)) => parse(a).unwrap_or(0)..parse(b).unwrap_or(n),
+        None => 0..parse(&var).unwrap_or(n),
+    }
 }
 
 fn check(case: &Case) -> CheckResult {
@@ -506,7 +510,7 @@ fn genom3_timed_verdicts_agree_with_tchecker() {
     let cases = fixtures()
         .into_iter()
         .chain(corpus())
-        .chain(generated(gen_dir.path(), 0..seed_count(60)));
+        .chain(generated(gen_dir.path(), seed_range(60)));
     for case in cases {
         tck_case(&case, &exe, &algo, &dir, &mut tally);
     }

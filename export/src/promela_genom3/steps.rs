@@ -150,20 +150,22 @@ fn call(m: &mut Model<'_>, k: usize, out: &mut Vec<String>) {
     }
 }
 
-/// An accepted instance of `a` starts (1.4); without a `start` codel it
-/// completes at once.
+/// An accepted instance of `a` starts (1.4) and runs its `start` codel in
+/// the same step (GenoM3's sweep runs a new instance's first codel at once:
+/// no stop flag is read in between); without a `start` codel it completes
+/// at once.
 fn start(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
     let act = m.r.activities[a].clone();
     let marker = m.marker(format!("service `{}` starts", act.name));
     let go = match act.fsm.start {
-        Some(s) => format!("st_{a} = RUN; at_{a} = {s}"),
+        Some(s) => format!("st_{a} = RUN; at_{a} = {s};\n       {}", codel(m, a, s)),
         None => format!(
-            "st_{a} = IDLE; at_{a} = 0; {}ended = 1",
+            "st_{a} = IDLE; at_{a} = 0; {}ended = 1; ",
             done(m, act.service)
         ),
     };
     out.push(format!(
-        "st_{a} == READY ->  /* `{}` starts */\n       {marker}; {go}; ",
+        "st_{a} == READY ->  /* `{}` starts */\n       {marker}; {go}",
         act.name
     ));
 }
@@ -171,39 +173,48 @@ fn start(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
 /// One codel of `a`'s instance, with each of its yields and an exception
 /// (9.1, 9.2); a stopping instance stays stopping.
 fn codels(m: &mut Model<'_>, a: usize, out: &mut Vec<String>) {
-    let act = m.r.activities[a].clone();
-    let done = done(m, act.service);
-    for (s, state) in act.fsm.states.iter().enumerate() {
-        let marker = m.marker(format!(
-            "codel `{}` of activity `{}` (state `{}`) runs",
-            state.function, act.name, state.name
-        ));
-        let mut body = format!("{marker};\n       if\n");
-        for y in &state.yields {
-            match *y {
-                Next::State(n) => {
-                    let _ = writeln!(
-                        body,
-                        "       :: at_{a} = {n}  /* yields `{}` */",
-                        act.fsm.states[n].name
-                    );
-                }
-                Next::Ether => {
-                    let _ = writeln!(
-                        body,
-                        "       :: st_{a} = IDLE; at_{a} = 0; {done}ended = 1  /* ether */"
-                    );
-                }
-            }
-        }
-        let _ = write!(
-            body,
-            "       :: st_{a} = IDLE; at_{a} = 0; ended = 1  /* an exception */\n       fi"
-        );
+    for s in 0..m.r.activities[a].fsm.states.len() {
+        let body = codel(m, a, s);
+        let act = &m.r.activities[a];
         out.push(format!(
             "(st_{a} == RUN || st_{a} == STOP) && at_{a} == {s} ->  /* `{}` runs `{}` */\n       \
              {body}",
-            act.name, state.name
+            act.name, act.fsm.states[s].name
         ));
     }
+}
+
+/// The effect of the codel of `a`'s state `s`: its marker, then one of its
+/// yields or an exception.
+fn codel(m: &mut Model<'_>, a: usize, s: usize) -> String {
+    let act = m.r.activities[a].clone();
+    let done = done(m, act.service);
+    let state = &act.fsm.states[s];
+    let marker = m.marker(format!(
+        "codel `{}` of activity `{}` (state `{}`) runs",
+        state.function, act.name, state.name
+    ));
+    let mut body = format!("{marker};\n       if\n");
+    for y in &state.yields {
+        match *y {
+            Next::State(n) => {
+                let _ = writeln!(
+                    body,
+                    "       :: at_{a} = {n}  /* yields `{}` */",
+                    act.fsm.states[n].name
+                );
+            }
+            Next::Ether => {
+                let _ = writeln!(
+                    body,
+                    "       :: st_{a} = IDLE; at_{a} = 0; {done}ended = 1  /* ether */"
+                );
+            }
+        }
+    }
+    let _ = write!(
+        body,
+        "       :: st_{a} = IDLE; at_{a} = 0; ended = 1  /* an exception */\n       fi"
+    );
+    body
 }

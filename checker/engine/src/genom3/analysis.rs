@@ -12,7 +12,7 @@ use petgraph::graphmap::DiGraphMap;
 
 use super::machine::{Fsm, Machine, Owner, Target};
 use super::parts::parts;
-use super::state::{G3State, Inst, Phase};
+use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use crate::engine::explore::{Limits, Model, Stop, explore};
 use crate::engine::store::StateId;
@@ -92,6 +92,13 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
             if perms && booted.is_none() && s.phase == Phase::Run {
                 booted = Some(id);
             }
+            for a in ready(s) {
+                let act = &engine.m.activities[a];
+                out.started.insert(act.service);
+                if let Some(st) = act.fsm.start {
+                    out.reached.insert((Owner::Activity(a), st));
+                }
+            }
             for (owner, i) in running(s) {
                 out.reached.insert((owner, i.state));
                 if !may_run(s, owner) {
@@ -147,6 +154,16 @@ fn may_run(s: &G3State, owner: Owner) -> bool {
         Owner::Task(t) => s.phase != Phase::Boot || t <= usize::from(s.booted),
         Owner::Activity(_) => true,
     }
+}
+
+/// The activities with an instance ready to start in `s` (its start step,
+/// which runs its `start` codel, is enabled).
+fn ready(s: &G3State) -> impl Iterator<Item = usize> + '_ {
+    s.inst
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.iter().any(|i| i.status == Status::Ready))
+        .map(|(a, _)| a)
 }
 
 /// Every started instance and permanent activity of a state.

@@ -21,8 +21,11 @@ pub enum G3Action {
     Call(u16),
     /// `abort_activity` interrupts an instance of activity `a` (packed).
     Abort(u16, u16),
-    /// An accepted instance of activity `a` (packed) starts.
-    Start(u16, u16),
+    /// An accepted instance of activity `a` (packed) starts and runs its
+    /// `start` codel with outcome `o` in the same step (GenoM3's sweep
+    /// starts an instance and runs its first codel at once: no
+    /// interruption comes in between); `o` is 0 without a `start` codel.
+    Start(u16, u16, u8),
     /// An instance of activity `a` (packed) runs its codel, with outcome
     /// `o` (a yield index; one past the yields: an exception).
     Codel(u16, u16, u8),
@@ -244,7 +247,11 @@ impl<'a> Engine<'a> {
         for (a, v) in distinct(s) {
             let Some(i) = Inst::unpack(v) else { continue };
             if i.status == Status::Ready {
-                out.push(G3Action::Start(a, v));
+                let n = match self.m.activities[usize::from(a)].fsm.start {
+                    Some(st) => self.outcomes(Owner::Activity(usize::from(a)), st),
+                    None => 1,
+                };
+                out.extend((0..n).map(|o| G3Action::Start(a, v, o)));
             } else if i.running() {
                 let n = self.outcomes(Owner::Activity(usize::from(a)), i.state);
                 out.extend((0..n).map(|o| G3Action::Codel(a, v, o)));
@@ -328,6 +335,20 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// Starts a ready instance of `a` (packed `v`) and runs its `start`
+    /// codel with outcome `o`; without a `start` codel it completes.
+    pub(crate) fn start(&self, s: &mut G3State, a: usize, v: u16, o: u8) {
+        remove(&mut s.inst[a], v);
+        match self.m.activities[a].fsm.start {
+            Some(state) => {
+                let i = Inst::new(Status::Run, state);
+                insert(&mut s.inst[a], i);
+                self.codel(s, a, i.pack(), o);
+            }
+            None => s.set_done(self.m.activities[a].service.index()),
+        }
+    }
+
     /// Runs the permanent codel of task `t` with outcome `o`.
     pub(crate) fn perm(&self, s: &mut G3State, t: usize, o: u8) {
         let Some(i) = s.perm[t] else { return };
@@ -379,14 +400,7 @@ impl Model for Engine<'_> {
     fn next_state(&self, s: &G3State, action: G3Action) -> Option<G3State> {
         let mut n = s.clone();
         match action {
-            G3Action::Start(a, v) => {
-                let a = usize::from(a);
-                remove(&mut n.inst[a], v);
-                match self.m.activities[a].fsm.start {
-                    Some(state) => insert(&mut n.inst[a], Inst::new(Status::Run, state)),
-                    None => n.set_done(self.m.activities[a].service.index()),
-                }
-            }
+            G3Action::Start(a, v, o) => self.start(&mut n, usize::from(a), v, o),
             G3Action::Codel(a, v, o) => self.codel(&mut n, usize::from(a), v, o),
             G3Action::Perm(t, o) => self.perm(&mut n, usize::from(t), o),
             _ => self.control(&mut n, action),

@@ -50,7 +50,7 @@ fn every_waiting_interrupter_starts_when_the_stop_path_ends() {
     s = step(
         &e,
         &s,
-        |a| matches!(a, G3Action::Start(x, _) if usize::from(*x) == servo),
+        |a| matches!(a, G3Action::Start(x, _, _) if usize::from(*x) == servo),
     );
     s = step(&e, &s, accept(halt));
     s = step(&e, &s, accept(halt));

@@ -32,6 +32,12 @@ pub fn render(engine: &Engine<'_>, path: &[G3Action]) -> Trace {
     let mut steps = vec![TraceStep::new(Event::ComponentStart, text)];
     for (k, &a) in path.iter().enumerate() {
         steps.push(step(engine, &states[k], &states[k + 1], a));
+        if let G3Action::Start(x, _, o) = a {
+            let owner = Owner::Activity(usize::from(x));
+            if let Some(st) = engine.m.activities[usize::from(x)].fsm.start {
+                steps.push(codel_text(engine, owner, st, o, &states[k], &states[k + 1]));
+            }
+        }
     }
     Trace {
         steps,
@@ -129,12 +135,12 @@ pub(crate) fn step(
             s.text = format!("`abort_activity` interrupts an instance of `{name}`");
             s
         }
-        G3Action::Start(x, _) => {
+        G3Action::Start(x, _, _) => {
             let x = usize::from(x);
             let name = m.activity_name(x);
             let mut s = TraceStep::new(
                 Event::Start,
-                format!("an instance of `{name}` starts at its task's next sweep"),
+                format!("an instance of `{name}` starts at its task's next sweep, which runs its first codel at once"),
             );
             s.thread = Some(m.tasks[m.activities[x].task].name.clone());
             s.service = Some(name.to_owned());

@@ -23,7 +23,8 @@
 //!   instance waits for a stopping one; functions and attributes complete
 //!   and flag their targets; `kill` flags everything and drains;
 //! - `interrupt` (`abort_activity`): one instance, not a stopping one;
-//! - `start`: a ready instance goes to `start` (or completes without one);
+//! - `start`: a ready instance goes to `start` (or completes without one)
+//!   and runs that codel at once: the next step is its `codel-end` there;
 //! - `codel-end`: a started instance (or the task's permanent activity) at
 //!   that state, an outcome among the state's yields (`pause::` included)
 //!   or `exception`;
@@ -667,6 +668,7 @@ pub fn replay_genom3(c: &Component, trace: &Trace) -> Result<(), String> {
     if trace.steps[0].event != Event::ComponentStart {
         return Err("step 1: a trace starts with `component-start`".into());
     }
+    first_codels(&r, trace)?;
     let mut worlds = vec![World::initial(&r)];
     for (k, step) in trace.steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
@@ -696,6 +698,32 @@ pub fn replay_genom3(c: &Component, trace: &Trace) -> Result<(), String> {
         worlds = next;
     }
     trace.loop_start.map_or(Ok(()), |k| lasso(trace, k))
+}
+
+/// Every `start` of an activity with a `start` codel is followed at once by
+/// that codel's end: GenoM3's sweep starts an instance and runs its first
+/// codel together, so nothing (an interruption) comes in between.
+fn first_codels(r: &Rules, trace: &Trace) -> Result<(), String> {
+    for (k, pair) in trace.steps.windows(2).enumerate() {
+        let (start, next) = (&pair[0], &pair[1]);
+        if start.event != Event::Start {
+            continue;
+        }
+        let a = r.activity(start.service.as_deref())?;
+        let first = next.event == Event::CodelEnd
+            && next.service == start.service
+            && next.codel.as_deref() == Some("start");
+        if r.services[a].fsm.has("start") && !first {
+            return Err(format!(
+                "step {} ({}): `{}` started at step {} but did not run its `start` codel at once",
+                k + 2,
+                next.event.as_str(),
+                r.services[a].name,
+                k + 1
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The loop from step `k` (0-based) to the violation: `codel-end` steps of

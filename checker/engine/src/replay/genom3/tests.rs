@@ -182,7 +182,8 @@ fn codels_need_a_started_instance_and_one_of_their_yields() {
             "t spin start>step => 2 no started instance of `spin` is at state `start`",
             "accept spin; t spin start>step => 3 no started instance of `spin`",
             "accept spin; start t spin; t spin start>w => 4 does not yield `w`",
-            "accept other; start t other; start t other => 4 no instance of `other` is ready",
+            "accept other; start t other; start t other => 4 did not run its `start` codel at once",
+            "accept other; start t other; t other start>pause::w; start t other => 5 no instance of `other` is ready",
             "accept other; start t other; t other start>w => 4 does not yield `w`",
             "accept other; start t other; t other start>pause::w; t other w>exception",
             "accept other; start t other; t other start>pause::w; t other w>exception; \
@@ -220,8 +221,8 @@ fn a_lasso_is_one_closed_unpaused_round() {
             "loop; t go a>b; t go b>a; violation t",
             "loop; t go a>b; violation t => 7 the loop is not closed",
             "loop; t go a>b; m - main>main; t go b>a => 8 runs the codels of one activity",
-            "accept go; start t go; loop; t go a>b; t go start>a; violation t \
-         => 10 the codel does not run in the state the previous one yielded",
+            "accept go; start t go; t go start>a; loop; t go a>b; t go a>b; violation t \
+         => 11 the codel does not run in the state the previous one yielded",
         ],
     );
     check(
@@ -246,7 +247,7 @@ fn interrupters_wait_for_the_stop_path() {
             "accept halt later => 6 an accepted request has no outcome `later`",
             "accept halt pending; start t halt => 7 no instance of `halt` is ready",
             "accept halt pending; t servo stop>pause::stop; accept halt pending; \
-         t servo stop>ether; start t halt; start t halt; t halt start>ether",
+         t servo stop>ether; start t halt; t halt start>ether; start t halt; t halt start>ether",
             "accept halt pending; t servo stop>ether; t servo main>main => 8 no started instance",
         ],
     );
@@ -256,8 +257,8 @@ fn interrupters_wait_for_the_stop_path() {
         &load(K),
         "m - start>ether; accept mv; start t mv; t mv start>run",
         &[
-            "accept mv pending; accept mv pending; t mv stop>ether; start t mv; \
-         start t mv => 10 no instance of `mv` is ready",
+            "accept mv pending; accept mv pending; t mv stop>ether; start t mv; t mv start>run; \
+         start t mv => 11 no instance of `mv` is ready",
             "accept halt; t mv stop>pause::stop; accept mv pending; t mv stop>ether; start t mv",
             "accept halt pending => 6 a call of `halt` is accepted with no outcome",
         ],
@@ -272,20 +273,22 @@ fn abort_and_kill_then_shutdown() {
         "m - start>ether; accept servo",
         &[
             "abort servo; start t servo => 5 ready",
-            "start t servo; abort servo start; abort servo stop => 6 no instance of `servo` is running",
+            "start t servo; t servo start>main; abort servo main; abort servo stop => 7 no instance of `servo` is running",
+            // GenoM3 runs a new instance's first codel in the sweep that starts it.
+            "start t servo; abort servo start => 5 did not run its `start` codel at once",
         ],
     );
     // Both instances stop, then the permanent `stop` codel of `m` runs
     // (re-created: it had ended), then the component has stopped.
     check(
         &c,
-        "m - start>ether; accept servo; start t servo; abort servo start; accept servo; \
-          start t servo; accept kill",
+        "m - start>ether; accept servo; start t servo; t servo start>pause::main; \
+          abort servo main; accept servo; start t servo; t servo start>pause::main; accept kill",
         &[
-            "accept servo => 9 the component is shutting down",
+            "accept servo => 11 the component is shutting down",
             "t servo stop>ether; t servo stop>exception; m - stop>ether",
             "t servo stop>ether; t servo stop>exception; m - stop>ether; \
-         m - stop>ether => 12 the component has stopped",
+         m - stop>ether => 14 the component has stopped",
         ],
     );
 }
