@@ -203,7 +203,12 @@ fn point_6_a_new_instance_runs_its_first_codel_before_any_interruption() {
     let a = analysis(c, 1);
     let quick = c.service_named("quick").unwrap();
     assert!(a.started.contains(&quick) && a.completed.contains(&quick));
-    assert_eq!(a.reached.len(), 2, "both `start` codels run: {:?}", a.reached);
+    assert_eq!(
+        a.reached.len(),
+        2,
+        "both `start` codels run: {:?}",
+        a.reached
+    );
 }
 
 #[test]

@@ -255,6 +255,19 @@ fn statically_reachable(c: &Component, sid: genom_model::component::ServiceId) -
     seen
 }
 
+/// Disagreements explained by a documented gap of the network
+/// (docs/exports/tchecker.md, "Not modelled"), with the verdict genom-check
+/// gives: reported, not failed. A listed label that agrees again is
+/// reported too, so that the list is kept short.
+const KNOWN: &[(&str, &str, bool, &str)] = &[(
+    "gen-21",
+    "overrun_t0",
+    true,
+    "the network has no ticket FIFO: `a1`'s reader of `m1`, due at 42 ms, begins at once \
+     although `a0`'s writer has waited since 41 ms (GenoM3 serves `a0` first, then `a1` \
+     ends past the tick)",
+)];
+
 /// The comparison's totals.
 #[derive(Default)]
 struct Tally {
@@ -264,15 +277,28 @@ struct Tally {
     reachable: usize,
     skipped: Vec<String>,
     problems: Vec<String>,
+    /// Disagreements of [`KNOWN`], and known ones that agree now.
+    explained: Vec<String>,
 }
 
 impl Tally {
     fn record(&mut self, case: &str, label: &str, expected: bool, got: Result<bool, String>) {
         self.labels += 1;
+        let known = KNOWN
+            .iter()
+            .find(|k| (k.0, k.1, k.2) == (case, label, expected));
         match got {
             Ok(b) if b == expected => {
                 self.agree += 1;
                 self.reachable += usize::from(b);
+                if known.is_some() {
+                    self.explained
+                        .push(format!("{case}: {label}: listed in KNOWN but agrees now"));
+                }
+            }
+            Ok(_) if known.is_some() => {
+                let why = known.map_or("", |k| k.3);
+                self.explained.push(format!("{case}: {label}: {why}"));
             }
             Ok(b) => self.problems.push(format!(
                 "{case}: {label}: genom-check {}, model {}",
@@ -290,6 +316,9 @@ impl Tally {
         );
         for p in &self.problems {
             let _ = writeln!(s, "DISAGREEMENT {p}");
+        }
+        for p in &self.explained {
+            let _ = writeln!(s, "EXPLAINED {p}");
         }
         s
     }
@@ -506,11 +535,14 @@ fn genom3_timed_verdicts_agree_with_tchecker() {
     let dir = std::env::var_os("TCK_KEEP").map_or_else(|| tmp.path().to_owned(), PathBuf::from);
     std::fs::create_dir_all(&dir).expect("creates TCK_KEEP");
     let mut tally = Tally::default();
+    // With `TCK_KEEP`, the generated sources and WCET files stay there too.
     let gen_dir = tempfile::tempdir().expect("a temporary directory");
+    let gen_path =
+        std::env::var_os("TCK_KEEP").map_or_else(|| gen_dir.path().to_owned(), PathBuf::from);
     let cases = fixtures()
         .into_iter()
         .chain(corpus())
-        .chain(generated(gen_dir.path(), seed_range(60)));
+        .chain(generated(&gen_path, seed_range(60)));
     for case in cases {
         tck_case(&case, &exe, &algo, &dir, &mut tally);
     }

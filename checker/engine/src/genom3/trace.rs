@@ -140,7 +140,9 @@ pub(crate) fn step(
             let name = m.activity_name(x);
             let mut s = TraceStep::new(
                 Event::Start,
-                format!("an instance of `{name}` starts at its task's next sweep, which runs its first codel at once"),
+                format!(
+                    "an instance of `{name}` starts at its task's next sweep, which runs its first codel at once"
+                ),
             );
             s.thread = Some(m.tasks[m.activities[x].task].name.clone());
             s.service = Some(name.to_owned());
