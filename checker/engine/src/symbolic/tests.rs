@@ -1,0 +1,118 @@
+//! Differential tests: on generated components, every cluster's symbolic
+//! reachable set has exactly as many configurations as the explicit
+//! explorer stores without reduction, the verdicts agree with what the
+//! explicit `analysis::visit` reads off the same states, and every
+//! symbolic trace is replayed by `System::apply` to a witness of its
+//! verdict, as short as the explicit one.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use genom_generate::{GeneratorConfig, generate};
+use genom_model::behaviour::Behaviour;
+use genom_model::component::Component;
+
+use super::{Symbolic, SymbolicLimits};
+use crate::engine::analysis::{Found, clusters, visit};
+use crate::engine::explore::{Limits, Model, explore};
+use crate::engine::system::{Action, Config, System};
+
+fn component(cfg: &GeneratorConfig) -> Component {
+    let text = generate(cfg);
+    crate::testing::check(&text)
+        .component
+        .expect("generated text lowers")
+}
+
+/// The configuration `path` leads to from the initial one.
+fn replay(sys: &System<'_>, path: &[Action]) -> Config {
+    let mut cfg = sys.init_states().remove(0);
+    for &a in path {
+        cfg = sys.apply(&cfg, a, &mut None).expect("the step is enabled");
+    }
+    cfg
+}
+
+/// Compares one cluster; returns its number of states.
+fn compare(c: &Component, b: &Behaviour, cluster: &[genom_model::component::ServiceId]) -> usize {
+    let sys = System::new(c, b, cluster, false);
+    let mut found = Found::default();
+    let limits = Limits {
+        max_states: 300_000,
+        ..Limits::default()
+    };
+    let e = explore(&sys, limits, |id, cfg| visit(&sys, id, cfg, &mut found));
+    if e.stopped.is_some() {
+        return 0;
+    }
+    let sym = Symbolic::new(&sys).expect("a whole cluster");
+    let reach = sym.reach(SymbolicLimits::default());
+    assert!(reach.stopped.is_none());
+    assert_eq!(reach.states(), e.store.len() as u128, "state count");
+    let v = sym.verdicts(&reach, true);
+    assert_eq!(v.reached, found.reached, "codels reached");
+    assert_eq!(v.started, found.started, "services started");
+    let pending: Vec<_> = found.pending.keys().copied().collect();
+    assert_eq!(v.pending.iter().copied().collect::<Vec<_>>(), pending);
+    let unbounded: Vec<_> = found.unbounded.keys().copied().collect();
+    assert_eq!(v.unbounded.keys().copied().collect::<Vec<_>>(), unbounded);
+    for (s, path) in &v.unbounded {
+        let end = replay(&sys, path);
+        let i = sys.member_index(*s).unwrap();
+        assert!(sys.machine_of(i).stop_loops[usize::from(end.main[i])]);
+        assert_eq!(path.len(), e.store.path(found.unbounded[s]).len());
+    }
+    let starving: Vec<_> = found.starvations.keys().copied().collect();
+    assert_eq!(v.starvations.keys().copied().collect::<Vec<_>>(), starving);
+    for (&(w, t), path) in &v.starvations {
+        let end = replay(&sys, path);
+        let (i, j) = (sys.member_index(w).unwrap(), sys.member_index(t).unwrap());
+        assert!(sys.blockers(&end, i).iter().any(|&(b, _)| b == j));
+        assert!(sys.may_never_end(&end, j));
+        let (id, _) = found.starvations[&(w, t)];
+        assert_eq!(path.len(), e.store.path(id).len());
+    }
+    assert_eq!(v.deadlocks.is_empty(), found.deadlocks.is_empty(), "deadlock");
+    for d in &v.deadlocks {
+        assert!(found.deadlocks.contains_key(&d.services), "{:?}", d.services);
+        let end = replay(&sys, &d.path);
+        for s in &d.services {
+            assert!(end.pending[sys.member_index(*s).unwrap()].is_some());
+        }
+    }
+    e.store.len()
+}
+
+fn run(cfg: &GeneratorConfig) -> usize {
+    let c = component(cfg);
+    let b = Behaviour::new(&c);
+    clusters(&c).iter().map(|k| compare(&c, &b, k)).sum()
+}
+
+#[test]
+fn counts_and_verdicts_match_the_explicit_engine_on_small_components() {
+    let mut total = 0;
+    for seed in 0..40 {
+        total += run(&GeneratorConfig::small(seed));
+    }
+    assert!(total > 1000, "the components explore something: {total}");
+}
+
+#[test]
+fn counts_and_verdicts_match_on_dense_interrupting_components() {
+    let mut total = 0;
+    for seed in 0..8u64 {
+        for density in [1.0, 2.0, 3.0] {
+            let cfg = GeneratorConfig {
+                codels_per_service: 2 + (seed as usize % 2),
+                threads: 1 + (seed as usize % 3),
+                rule_density: density,
+                init: seed % 2 == 0,
+                autos: (seed % 3) as usize,
+                timed: seed % 4 == 1,
+                self_stops: if seed % 3 == 0 { 0.5 } else { 0.0 },
+                ..GeneratorConfig::new(seed, 5)
+            };
+            total += run(&cfg);
+        }
+    }
+    assert!(total > 1000, "the components explore something: {total}");
+}
