@@ -21,7 +21,11 @@ use genom_model::behaviour::Behaviour;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let num = |k: usize| args.get(k).and_then(|a| a.parse::<f64>().ok()).expect("5 numbers");
+    let num = |k: usize| {
+        args.get(k)
+            .and_then(|a| a.parse::<f64>().ok())
+            .expect("5 numbers")
+    };
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     let cfg = GeneratorConfig {
         codels_per_service: num(2) as usize,

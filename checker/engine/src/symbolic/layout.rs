@@ -96,7 +96,11 @@ impl Layout {
                 (None, Vec::new())
             };
             let watchdog = sys.component().services[sys.service(i)].max_time.is_some();
-            let tout = if watchdog { take(1).first().copied() } else { None };
+            let tout = if watchdog {
+                take(1).first().copied()
+            } else {
+                None
+            };
             slots.push(Slot {
                 pos,
                 pend,

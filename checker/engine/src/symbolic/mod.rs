@@ -101,7 +101,11 @@ impl<'s, 'a> Symbolic<'s, 'a> {
     /// Prepares `sys` (a whole cluster, after initialisation).
     pub fn new(sys: &'s System<'a>) -> Result<Self, Refusal> {
         let layout = layout::Layout::new(sys)?;
-        let init = sys.init_states().into_iter().next().ok_or(Refusal::PreInit)?;
+        let init = sys
+            .init_states()
+            .into_iter()
+            .next()
+            .ok_or(Refusal::PreInit)?;
         if !init.init_done || !sys.expand(&init) {
             return Err(Refusal::PreInit);
         }

@@ -31,8 +31,23 @@ fn replay(sys: &System<'_>, path: &[Action]) -> Config {
     cfg
 }
 
-/// Compares one cluster; returns its number of states.
-fn compare(c: &Component, b: &Behaviour, cluster: &[genom_model::component::ServiceId]) -> usize {
+/// What the compared clusters exercised.
+#[derive(Default, Debug)]
+struct Seen {
+    states: usize,
+    deadlocks: usize,
+    starvations: usize,
+    unbounded: usize,
+    pending: usize,
+}
+
+/// Compares one cluster and adds what it exercised to `seen`.
+fn compare(
+    c: &Component,
+    b: &Behaviour,
+    cluster: &[genom_model::component::ServiceId],
+    seen: &mut Seen,
+) {
     let sys = System::new(c, b, cluster, false);
     let mut found = Found::default();
     let limits = Limits {
@@ -41,7 +56,7 @@ fn compare(c: &Component, b: &Behaviour, cluster: &[genom_model::component::Serv
     };
     let e = explore(&sys, limits, |id, cfg| visit(&sys, id, cfg, &mut found));
     if e.stopped.is_some() {
-        return 0;
+        return;
     }
     let sym = Symbolic::new(&sys).expect("a whole cluster");
     let reach = sym.reach(SymbolicLimits::default());
@@ -70,35 +85,50 @@ fn compare(c: &Component, b: &Behaviour, cluster: &[genom_model::component::Serv
         let (id, _) = found.starvations[&(w, t)];
         assert_eq!(path.len(), e.store.path(id).len());
     }
-    assert_eq!(v.deadlocks.is_empty(), found.deadlocks.is_empty(), "deadlock");
+    assert_eq!(
+        v.deadlocks.is_empty(),
+        found.deadlocks.is_empty(),
+        "deadlock"
+    );
     for d in &v.deadlocks {
-        assert!(found.deadlocks.contains_key(&d.services), "{:?}", d.services);
+        assert!(
+            found.deadlocks.contains_key(&d.services),
+            "{:?}",
+            d.services
+        );
         let end = replay(&sys, &d.path);
         for s in &d.services {
             assert!(end.pending[sys.member_index(*s).unwrap()].is_some());
         }
     }
-    e.store.len()
+    seen.states += e.store.len();
+    seen.deadlocks += v.deadlocks.len();
+    seen.starvations += v.starvations.len();
+    seen.unbounded += v.unbounded.len();
+    seen.pending += v.pending.len();
 }
 
-fn run(cfg: &GeneratorConfig) -> usize {
+fn run(cfg: &GeneratorConfig, seen: &mut Seen) {
     let c = component(cfg);
     let b = Behaviour::new(&c);
-    clusters(&c).iter().map(|k| compare(&c, &b, k)).sum()
+    for k in clusters(&c) {
+        compare(&c, &b, &k, seen);
+    }
 }
 
 #[test]
 fn counts_and_verdicts_match_the_explicit_engine_on_small_components() {
-    let mut total = 0;
+    let mut seen = Seen::default();
     for seed in 0..40 {
-        total += run(&GeneratorConfig::small(seed));
+        run(&GeneratorConfig::small(seed), &mut seen);
     }
-    assert!(total > 1000, "the components explore something: {total}");
+    assert!(seen.states > 1000, "{seen:?}");
+    assert!(seen.pending > 0 && seen.starvations > 0, "{seen:?}");
 }
 
 #[test]
 fn counts_and_verdicts_match_on_dense_interrupting_components() {
-    let mut total = 0;
+    let mut seen = Seen::default();
     for seed in 0..8u64 {
         for density in [1.0, 2.0, 3.0] {
             let cfg = GeneratorConfig {
@@ -111,8 +141,32 @@ fn counts_and_verdicts_match_on_dense_interrupting_components() {
                 self_stops: if seed % 3 == 0 { 0.5 } else { 0.0 },
                 ..GeneratorConfig::new(seed, 5)
             };
-            total += run(&cfg);
+            run(&cfg, &mut seen);
         }
     }
-    assert!(total > 1000, "the components explore something: {total}");
+    assert!(seen.states > 1000, "{seen:?}");
+    assert!(seen.deadlocks > 0 && seen.starvations > 0, "{seen:?}");
+}
+
+#[test]
+fn an_unbounded_interrupt_has_a_replayed_shortest_trace() {
+    let body = "service move {
+          thread: main; stops: move;
+          start codel { exec: go(); on-inter: brake; next: start; }
+          inter codel brake { exec: slow(); next: brake; }
+        }
+        service halt {
+          thread: main; stops: move;
+          start codel { exec: h(); next: end; }
+        }\n";
+    let c = crate::testing::check(&format!("{}{body}", crate::testing::HEADER))
+        .component
+        .expect("the snippet lowers");
+    let b = Behaviour::new(&c);
+    let mut seen = Seen::default();
+    for k in clusters(&c) {
+        compare(&c, &b, &k, &mut seen);
+    }
+    assert_eq!(seen.unbounded, 1, "{seen:?}");
+    assert_eq!(seen.pending, 2, "{seen:?}");
 }

@@ -73,7 +73,7 @@ fn split_variable(x: &Bdd) -> Option<BddVariable> {
         node = if low.is_zero() { high } else { low };
     }
     let n = usize::from(x.num_vars());
-    (0..n).map(BddVariable::from_index).find(|&v| {
-        !x.var_select(v, false).is_false() && !x.var_select(v, true).is_false()
-    })
+    (0..n)
+        .map(BddVariable::from_index)
+        .find(|&v| !x.var_select(v, false).is_false() && !x.var_select(v, true).is_false())
 }

@@ -182,7 +182,9 @@ impl Symbolic<'_, '_> {
             let Some(cycle) = self.cycle(&cfg) else {
                 break;
             };
-            let all = cycle.iter().fold(l.vars.mk_true(), |acc, &i| acc.and(&l.pend(i)));
+            let all = cycle
+                .iter()
+                .fold(l.vars.mk_true(), |acc, &i| acc.and(&l.pend(i)));
             let witnesses = left.and(&all);
             let path = if traces {
                 self.trace_to(reach, &witnesses)
