@@ -3,7 +3,7 @@
 //! nodes, breadth-first depth, time, and the verdicts found (with traces
 //! when `--traces` is given). Run in release:
 //!
-//! `cargo run --release -p genom-engine --example symbolic_figures -- SEED SERVICES CODELS THREADS DENSITY [--traces] [--explicit]`
+//! `cargo run --release -p genom-engine --example symbolic_figures -- SEED SERVICES CODELS THREADS DENSITY [--chained] [--traces] [--explicit]`
 //!
 //! (`--init --autos 1` as in `genom-check generate`); `--explicit` also
 //! counts the cluster's states with the explicit explorer, no reduction.
@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use genom_engine::engine::analysis::clusters;
 use genom_engine::engine::explore::{Limits, explore};
 use genom_engine::engine::system::System;
-use genom_engine::symbolic::{Symbolic, SymbolicLimits};
+use genom_engine::symbolic::{Strategy, Symbolic, SymbolicLimits};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 
@@ -50,6 +50,11 @@ fn main() {
         let sym = Symbolic::new(&sys).expect("a whole cluster");
         let limits = SymbolicLimits {
             deadline: Some(Instant::now() + Duration::from_secs(600)),
+            strategy: if args.iter().any(|a| a == "--chained") {
+                Strategy::Chained
+            } else {
+                Strategy::Breadth
+            },
             ..SymbolicLimits::default()
         };
         let reach = sym.reach(limits);

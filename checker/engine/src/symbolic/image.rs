@@ -134,6 +134,24 @@ impl Steps {
         quiet.or(&self.closure(l, loud))
     }
 
+    /// The configurations step `k` leads to from `from` (closed under
+    /// urgent starts).
+    pub(crate) fn step_image(&self, l: &Layout, from: &Bdd, k: usize) -> Bdd {
+        let Some(s) = self.list.get(k) else {
+            return l.vars.mk_false();
+        };
+        let x = from.and(&s.guard);
+        if x.is_false() {
+            return x;
+        }
+        let y = self.effect(l, &x, s.effect);
+        if s.effect.releases() {
+            self.closure(l, y)
+        } else {
+            y
+        }
+    }
+
     /// Applies an effect to configurations satisfying its guard.
     pub(crate) fn effect(&self, l: &Layout, x: &Bdd, e: Effect) -> Bdd {
         match e {

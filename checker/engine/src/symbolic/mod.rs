@@ -34,9 +34,22 @@ use crate::engine::system::{Action, Config, System};
 pub use layout::Refusal;
 pub use verdicts::{SymbolicDeadlock, Verdicts};
 
-/// Resource limits of a symbolic exploration.
+/// How the reachable set is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Strategy {
+    /// Breadth-first: one image of the whole frontier per layer; traces
+    /// are shortest.
+    Breadth,
+    /// Chained: each step in turn is applied to everything reached so far
+    /// (fewer, cheaper iterations); traces are valid but not shortest.
+    Chained,
+}
+
+/// Resource limits and strategy of a symbolic exploration.
 #[derive(Debug, Clone, Copy)]
 pub struct SymbolicLimits {
+    /// How to compute the reachable set.
+    pub strategy: Strategy,
     /// Stop at this instant.
     pub deadline: Option<Instant>,
     /// Stop when the reachable set's BDD has more nodes than this.
@@ -46,6 +59,7 @@ pub struct SymbolicLimits {
 impl Default for SymbolicLimits {
     fn default() -> Self {
         SymbolicLimits {
+            strategy: Strategy::Breadth,
             deadline: None,
             max_nodes: 50_000_000,
         }
@@ -61,11 +75,18 @@ pub struct Symbolic<'s, 'a> {
     init: Config,
 }
 
-/// The reachable configurations, by distance from the initial one.
+/// Configurations first reached together: by one step from the earlier
+/// layers (by `step`, or by any step from the previous layer when `None`).
+#[derive(Debug)]
+struct Layer {
+    set: Bdd,
+    step: Option<usize>,
+}
+
+/// The reachable configurations, in the layers they were found in.
 #[derive(Debug)]
 pub struct Reach {
-    /// `layers[d]`: the configurations first reached after `d` steps.
-    layers: Vec<Bdd>,
+    layers: Vec<Layer>,
     /// Every reached configuration.
     reached: Bdd,
     /// Why exploration stopped early, if it did.
@@ -91,7 +112,8 @@ impl Reach {
         self.reached.size()
     }
 
-    /// Breadth-first depth: the number of layers after the initial one.
+    /// The number of layers after the initial one (breadth-first: the
+    /// depth).
     pub fn depth(&self) -> usize {
         self.layers.len().saturating_sub(1)
     }
@@ -128,39 +150,72 @@ impl<'s, 'a> Symbolic<'s, 'a> {
         self.steps.list.len()
     }
 
-    /// The reachable configurations, breadth-first.
+    /// The reachable configurations.
     pub fn reach(&self, limits: SymbolicLimits) -> Reach {
         let started = Instant::now();
         let first = self.layout.encode(&self.init);
-        let mut reached = first.clone();
-        let mut layers = vec![first.clone()];
-        let mut frontier = first;
-        let mut peak = reached.size();
-        let mut stopped = None;
+        let mut r = Reach {
+            layers: vec![Layer {
+                set: first.clone(),
+                step: None,
+            }],
+            peak_nodes: first.size(),
+            reached: first,
+            stopped: None,
+            elapsed: Duration::ZERO,
+        };
+        r.stopped = match limits.strategy {
+            Strategy::Breadth => self.breadth(&mut r, limits),
+            Strategy::Chained => self.chained(&mut r, limits),
+        };
+        r.elapsed = started.elapsed();
+        r
+    }
+
+    /// Adds `new` (disjoint from what is reached) as a layer; `Some` when a
+    /// limit is reached.
+    fn grow(r: &mut Reach, new: Bdd, step: Option<usize>, limits: SymbolicLimits) -> Option<Stop> {
+        r.reached = r.reached.or(&new);
+        r.peak_nodes = r.peak_nodes.max(r.reached.size()).max(new.size());
+        r.layers.push(Layer { set: new, step });
+        if r.peak_nodes > limits.max_nodes {
+            return Some(Stop::Memory);
+        }
+        genom_model::limits::out_of_time(limits.deadline).then_some(Stop::Time)
+    }
+
+    fn breadth(&self, r: &mut Reach, limits: SymbolicLimits) -> Option<Stop> {
         loop {
-            if genom_model::limits::out_of_time(limits.deadline) {
-                stopped = Some(Stop::Time);
-                break;
-            }
-            let next = self.steps.image(&self.layout, &frontier).and_not(&reached);
+            let frontier = &r.layers.last()?.set;
+            let next = self.steps.image(&self.layout, frontier).and_not(&r.reached);
             if next.is_false() {
-                break;
+                return None;
             }
-            reached = reached.or(&next);
-            peak = peak.max(reached.size()).max(next.size());
-            layers.push(next.clone());
-            frontier = next;
-            if peak > limits.max_nodes {
-                stopped = Some(Stop::Memory);
-                break;
+            if let Some(stop) = Self::grow(r, next, None, limits) {
+                return Some(stop);
             }
         }
-        Reach {
-            layers,
-            reached,
-            stopped,
-            elapsed: started.elapsed(),
-            peak_nodes: peak,
+    }
+
+    fn chained(&self, r: &mut Reach, limits: SymbolicLimits) -> Option<Stop> {
+        loop {
+            let mut grew = false;
+            for k in (0..self.steps.list.len()).rev() {
+                let next = self
+                    .steps
+                    .step_image(&self.layout, &r.reached, k)
+                    .and_not(&r.reached);
+                if next.is_false() {
+                    continue;
+                }
+                grew = true;
+                if let Some(stop) = Self::grow(r, next, Some(k), limits) {
+                    return Some(stop);
+                }
+            }
+            if !grew {
+                return None;
+            }
         }
     }
 

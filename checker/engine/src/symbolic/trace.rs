@@ -1,9 +1,10 @@
-//! Concrete traces from the breadth-first layers: a target configuration
-//! at the first layer that meets the witness set, then, layer by layer
-//! back to the initial configuration, a predecessor found by halving the
-//! previous layer (keeping a half whose image holds the current
-//! configuration) until it is small enough to try each configuration with
-//! the explicit `System::apply`. The configurations are then joined by
+//! Concrete traces from the layers of the reachable set: a target
+//! configuration in the first layer that meets the witness set, then, back
+//! to the initial configuration, a predecessor found by halving the
+//! earlier layers (the previous one, breadth-first; all earlier ones,
+//! chained) and keeping a half whose image holds the current configuration,
+//! until it is small enough to try each configuration with the explicit
+//! `System::apply`. The configurations are then joined by
 //! explicit actions, so the path is one the explicit semantics takes.
 
 use biodivine_lib_bdd::{Bdd, BddVariable};
@@ -20,15 +21,26 @@ impl Symbolic<'_, '_> {
     /// `None` when no reached configuration is in `target`, or (a bug) the
     /// symbolic and explicit semantics disagree on a step.
     pub fn trace_to(&self, reach: &Reach, target: &Bdd) -> Option<(Vec<Action>, Config)> {
-        let d = reach
+        let mut m = reach
             .layers
             .iter()
-            .position(|layer| !layer.and(target).is_false())?;
-        let last = self.layout.pick(&reach.layers[d].and(target))?;
+            .position(|layer| !layer.set.and(target).is_false())?;
+        let last = self.layout.pick(&reach.layers[m].set.and(target))?;
         let mut configs = vec![last.clone()];
-        for k in (0..d).rev() {
+        while m > 0 {
             let after = configs.last()?;
-            let before = self.predecessor(&reach.layers[k], after)?;
+            let layer = reach.layers.get(m)?;
+            let candidates = match layer.step {
+                None => reach.layers[m - 1].set.clone(),
+                Some(_) => reach.layers[..m]
+                    .iter()
+                    .fold(self.layout.vars.mk_false(), |acc, l| acc.or(&l.set)),
+            };
+            let before = self.predecessor(&candidates, after, layer.step)?;
+            let here = self.layout.encode(&before);
+            m = reach.layers[..m]
+                .iter()
+                .position(|l| !l.set.and(&here).is_false())?;
             configs.push(before);
         }
         configs.reverse();
@@ -39,16 +51,23 @@ impl Symbolic<'_, '_> {
         Some((path, last))
     }
 
-    /// A configuration of `layer` with an explicit step to `after`.
-    fn predecessor(&self, layer: &Bdd, after: &Config) -> Option<Config> {
+    /// A configuration of `candidates` with an explicit step to `after`
+    /// (found by halving with the image of `step`, or of every step).
+    fn predecessor(&self, candidates: &Bdd, after: &Config, step: Option<usize>) -> Option<Config> {
         let target = self.layout.encode(after);
-        let mut x = layer.clone();
+        let image = |x: &Bdd| match step {
+            Some(k) => self.steps.step_image(&self.layout, x, k),
+            None => self.steps.image(&self.layout, x),
+        };
+        let mut x = match step.and_then(|k| self.steps.list.get(k)) {
+            Some(s) => candidates.and(&s.guard),
+            None => candidates.clone(),
+        };
         while x.cardinality() > EXPLICIT_BELOW {
             let v = split_variable(&x)?;
             let low = x.var_select(v, false);
             let high = x.var_select(v, true);
-            let image = self.steps.image(&self.layout, &low);
-            x = if image.and(&target).is_false() {
+            x = if image(&low).and(&target).is_false() {
                 high
             } else {
                 low
