@@ -87,7 +87,6 @@ fn agree(
     v: &super::Verdicts,
     shortest: bool,
 ) {
-    let sys = sys;
     assert_eq!(v.reached, found.reached, "codels reached");
     assert_eq!(v.started, found.started, "services started");
     let pending: Vec<_> = found.pending.keys().copied().collect();
