@@ -3,7 +3,7 @@
 //! nodes, breadth-first depth, time, and the verdicts found (with traces
 //! when `--traces` is given). Run in release:
 //!
-//! `cargo run --release -p genom-engine --example symbolic_figures -- SEED SERVICES CODELS THREADS DENSITY [--chained] [--traces] [--explicit]`
+//! `cargo run --release -p genom-engine --example symbolic_figures -- SEED SERVICES CODELS THREADS DENSITY [--chained] [--traces] [--explicit] [--no-symbolic] [--seconds N]`
 //!
 //! (`--init --autos 1` as in `genom-check generate`); `--explicit` also
 //! counts the cluster's states with the explicit explorer, no reduction.
@@ -37,6 +37,12 @@ fn main() {
     };
     let traces = args.iter().any(|a| a == "--traces");
     let explicit = args.iter().any(|a| a == "--explicit");
+    let symbolic = !args.iter().any(|a| a == "--no-symbolic");
+    let seconds = args
+        .iter()
+        .position(|a| a == "--seconds")
+        .and_then(|k| args.get(k + 1)?.parse().ok())
+        .unwrap_or(600);
     let text = generate(&cfg);
     let lowered = genom_parser::lower(
         Path::new("gen.gen"),
@@ -47,9 +53,28 @@ fn main() {
     let b = Behaviour::new(&c);
     for cluster in clusters(&c).into_iter().filter(|k| k.len() > 1) {
         let sys = System::new(&c, &b, &cluster, false);
-        let sym = Symbolic::new(&sys).expect("a whole cluster");
+        if symbolic {
+            run_symbolic(&sys, &args, seconds, traces);
+        }
+        if explicit {
+            let t = Instant::now();
+            let e = explore(&sys, Limits::default(), |_, _| {});
+            println!(
+                "  explicit: {} states in {:.2} s, stopped {:?}",
+                e.store.len(),
+                t.elapsed().as_secs_f64(),
+                e.stopped
+            );
+        }
+    }
+}
+
+fn run_symbolic(sys: &System<'_>, args: &[String], seconds: u64, traces: bool) {
+    {
+        let cluster: Vec<_> = sys.services().collect();
+        let sym = Symbolic::new(sys).expect("a whole cluster");
         let limits = SymbolicLimits {
-            deadline: Some(Instant::now() + Duration::from_secs(600)),
+            deadline: Some(Instant::now() + Duration::from_secs(seconds)),
             strategy: if args.iter().any(|a| a == "--chained") {
                 Strategy::Chained
             } else {
@@ -83,15 +108,5 @@ fn main() {
             v.deadlocks.len(),
             v.deadlocks.iter().map(|d| d.path.len()).collect::<Vec<_>>()
         );
-        if explicit {
-            let t = Instant::now();
-            let e = explore(&sys, Limits::default(), |_, _| {});
-            println!(
-                "  explicit: {} states in {:.2} s, stopped {:?}",
-                e.store.len(),
-                t.elapsed().as_secs_f64(),
-                e.stopped
-            );
-        }
     }
 }
