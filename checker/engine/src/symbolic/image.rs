@@ -117,9 +117,24 @@ impl Steps {
     /// The configurations one step from `from` (closed under urgent
     /// starts).
     pub(crate) fn image(&self, l: &Layout, from: &Bdd) -> Bdd {
+        self.image_until(l, from, None)
+            .unwrap_or_else(|| l.vars.mk_false())
+    }
+
+    /// [`Self::image`], or `None` once `deadline` has passed (checked
+    /// between steps).
+    pub(crate) fn image_until(
+        &self,
+        l: &Layout,
+        from: &Bdd,
+        deadline: Option<std::time::Instant>,
+    ) -> Option<Bdd> {
         let mut quiet = l.vars.mk_false();
         let mut loud = l.vars.mk_false();
         for s in &self.list {
+            if genom_model::limits::out_of_time(deadline) {
+                return None;
+            }
             let x = from.and(&s.guard);
             if x.is_false() {
                 continue;
@@ -131,7 +146,7 @@ impl Steps {
                 quiet = quiet.or(&y);
             }
         }
-        quiet.or(&self.closure(l, loud))
+        Some(quiet.or(&self.closure(l, loud)))
     }
 
     /// The configurations step `k` leads to from `from` (closed under

@@ -89,7 +89,9 @@ pub struct Reach {
     layers: Vec<Layer>,
     /// Every reached configuration.
     reached: Bdd,
-    /// Why exploration stopped early, if it did.
+    /// Why exploration stopped early, if it did: then the set is only
+    /// part of the reachable one, and a verdict it does not show is
+    /// unproven.
     pub stopped: Option<Stop>,
     /// Time spent.
     pub elapsed: Duration,
@@ -187,7 +189,13 @@ impl<'s, 'a> Symbolic<'s, 'a> {
     fn breadth(&self, r: &mut Reach, limits: SymbolicLimits) -> Option<Stop> {
         loop {
             let frontier = &r.layers.last()?.set;
-            let next = self.steps.image(&self.layout, frontier).and_not(&r.reached);
+            let Some(image) = self
+                .steps
+                .image_until(&self.layout, frontier, limits.deadline)
+            else {
+                return Some(Stop::Time);
+            };
+            let next = image.and_not(&r.reached);
             if next.is_false() {
                 return None;
             }
@@ -201,6 +209,9 @@ impl<'s, 'a> Symbolic<'s, 'a> {
         loop {
             let mut grew = false;
             for k in (0..self.steps.list.len()).rev() {
+                if genom_model::limits::out_of_time(limits.deadline) {
+                    return Some(Stop::Time);
+                }
                 let next = self
                     .steps
                     .step_image(&self.layout, &r.reached, k)

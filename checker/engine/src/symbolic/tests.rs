@@ -190,3 +190,27 @@ fn an_unbounded_interrupt_has_a_replayed_shortest_trace() {
     assert_eq!(seen.unbounded, 2, "{seen:?}");
     assert_eq!(seen.pending, 4, "{seen:?}");
 }
+
+#[test]
+fn a_passed_deadline_stops_with_a_partial_set_and_says_so() {
+    let c = component(&GeneratorConfig {
+        rule_density: 2.0,
+        ..GeneratorConfig::new(3, 5)
+    });
+    let b = Behaviour::new(&c);
+    let all: Vec<_> = c.services.ids().collect();
+    let sys = System::new(&c, &b, &all, false);
+    let sym = Symbolic::new(&sys).unwrap();
+    let full = sym.reach(SymbolicLimits::default());
+    assert!(full.stopped.is_none() && full.states() > 1);
+    for strategy in [Strategy::Breadth, Strategy::Chained] {
+        let limits = SymbolicLimits {
+            strategy,
+            deadline: Some(std::time::Instant::now()),
+            ..SymbolicLimits::default()
+        };
+        let cut = sym.reach(limits);
+        assert_eq!(cut.stopped, Some(crate::engine::explore::Stop::Time));
+        assert!(cut.states() < full.states());
+    }
+}
