@@ -12,6 +12,10 @@
 //! replays, so every trace is checked by the explicit semantics. Cycle
 //! properties beyond these state predicates are not computed here.
 //!
+//! Measured (example `symbolic_figures`), this engine is exact but slower
+//! than the explicit explorer on the issue-14 components, so `verify` does
+//! not call it yet: it is a library with differential tests.
+//!
 //! The BDD library is `biodivine-lib-bdd`: pure Rust (no system library,
 //! no `unsafe` in our code), maintained, with the operations needed here
 //! (quantification, exact model counting, witnesses). Each BDD owns its
