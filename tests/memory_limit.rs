@@ -2,7 +2,8 @@
 //! on hostile inputs and on a 10 MB component, and its peak resident size
 //! (`VmHWM` of `/proc/PID/status`, read while it runs) is checked against
 //! the limit, with its exit status and its message. Linux only (`/proc`).
-//! One test per file, run one after the other: the children do not overlap.
+//! A timed exploration is run under `--max-memory 1G` (issue 14). Each
+//! child's own peak is read, so the two tests may run at once.
 
 #![cfg(target_os = "linux")]
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
@@ -140,4 +141,29 @@ fn the_process_stays_within_max_memory_on_hostile_and_huge_inputs() {
     std::fs::write(&wide, vec![b' '; 120 << 20]).unwrap();
     let args = ["--max-memory", "100M", wide.to_str().unwrap()];
     expect(d, &args, 1, "memory limit (--max-memory)", 100);
+}
+
+/// Issue 14: a timed exploration that outgrows `--max-memory 1G` (30
+/// services, timed; about 2 GB without a limit) stops with `incomplete`,
+/// naming the memory limit, at about 1.1 GB resident at most.
+#[test]
+fn a_timed_exploration_stops_within_one_gigabyte() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let path = d.join("t30.gen");
+    let args = "generate --seed 1 --services 30 --codels 5 --threads 4 --init --autos 1 --timed";
+    let out = Command::new(env!("CARGO_BIN_EXE_genom-check"))
+        .args(args.split_whitespace())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    std::fs::write(&path, &out.stdout).unwrap();
+    let args = ["--max-memory", "1G", path.to_str().unwrap()];
+    expect(
+        d,
+        &args,
+        1,
+        "the memory limit (--max-memory) was reached",
+        1126,
+    );
 }
