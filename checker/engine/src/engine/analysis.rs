@@ -84,8 +84,11 @@ pub struct Analysis {
     pub transitions: u64,
     /// Time spent exploring.
     pub elapsed: Duration,
-    /// Bytes per stored state (largest exploration).
+    /// Bytes per stored state of the largest exploration (a small one's
+    /// fixed overhead per state says nothing about the store).
     pub bytes_per_state: f64,
+    /// States of that largest exploration.
+    largest: usize,
     /// States expanded with a reduced set of actions (partial-order
     /// reduction).
     pub reduced: u64,
@@ -375,7 +378,10 @@ impl Analysis {
         self.states += other.states;
         self.transitions += other.transitions;
         self.elapsed += other.elapsed;
-        self.bytes_per_state = self.bytes_per_state.max(other.bytes_per_state);
+        if other.largest > self.largest {
+            self.largest = other.largest;
+            self.bytes_per_state = other.bytes_per_state;
+        }
         self.reduced += other.reduced;
         self.parts += other.parts;
         for (s, b) in other.dead_candidates {
@@ -395,7 +401,10 @@ impl Analysis {
         self.transitions += e.transitions;
         self.elapsed += e.elapsed;
         self.reduced += e.reduced;
-        self.bytes_per_state = self.bytes_per_state.max(e.store.bytes_per_state());
+        if states > self.largest || self.largest == 0 {
+            self.largest = states;
+            self.bytes_per_state = e.store.bytes_per_state();
+        }
         budget.max_states = budget.max_states.saturating_sub(states).max(1);
         if e.stopped.is_some() {
             self.stopped = self.stopped.or(e.stopped);
@@ -405,13 +414,29 @@ impl Analysis {
 
 /// Reads the properties of one new state.
 pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
-    let c = sys.component();
     found.root.get_or_insert(id);
     if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
         found.init_success = Some(id);
     }
+    sys.with_running(cfg, |running| visit_members(sys, id, cfg, running, found));
+    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
+        if let Some(cycle) = pending_cycle(sys, cfg) {
+            found.deadlocks.entry(cycle).or_insert(id);
+        }
+    }
+}
+
+/// Reads the properties of each member in a new state, given the running
+/// codels.
+fn visit_members(
+    sys: &System<'_>,
+    id: StateId,
+    cfg: &Config,
+    running: &[(usize, CodelId)],
+    found: &mut Found,
+) {
+    let c = sys.component();
     let n = cfg.main.len();
-    let running = sys.running(cfg);
     for i in (0..n).filter(|&i| !sys.is_input(i)) {
         let s = sys.service(i);
         let m = sys.machine_of(i);
@@ -422,7 +447,7 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
         if cfg.main[i] != IDLE {
             found.started.insert(s);
         }
-        if sys.request_enabled_among(cfg, i, &running) {
+        if sys.request_enabled_among(cfg, i, running) {
             if let Some(k) = c.services[s].control {
                 found.reached.insert(k);
             }
@@ -438,18 +463,13 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
             starving(sys, id, cfg, i, found);
         }
     }
-    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
-        if let Some(cycle) = pending_cycle(sys, cfg) {
-            found.deadlocks.entry(cycle).or_insert(id);
-        }
-    }
 }
 
 fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
     if sys.machine_of(i).watchdog {
         return;
     }
-    for (t, via_delays) in sys.blockers(cfg, i) {
+    for (t, via_delays) in sys.blockers_iter(cfg, i) {
         if sys.may_never_end(cfg, t) {
             found
                 .starvations
@@ -462,6 +482,53 @@ fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut F
 /// Services of a cycle of pending instances blocking each other through
 /// `delays`, none of which a watchdog can end.
 fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
+    if cfg.main.len() <= 64 {
+        pending_cycle_small(sys, cfg)
+    } else {
+        pending_cycle_any(sys, cfg)
+    }
+}
+
+/// [`pending_cycle`] with at most 64 members: the relation as bit masks
+/// (no allocation unless there is a cycle).
+fn pending_cycle_small(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
+    let n = cfg.main.len();
+    let node =
+        |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
+    let mut reach = [0u64; 64];
+    let mut any = false;
+    for i in (0..n).filter(|&i| node(i)) {
+        for (t, d) in sys.blockers_iter(cfg, i) {
+            if d && node(t) {
+                reach[i] |= 1 << t;
+                any = true;
+            }
+        }
+    }
+    if !any {
+        return None;
+    }
+    // Transitive closure (Warshall): bit j of reach[i] when a path of at
+    // least one edge leads from i to j.
+    for k in 0..n {
+        for i in 0..n {
+            if reach[i] >> k & 1 == 1 {
+                reach[i] |= reach[k];
+            }
+        }
+    }
+    let first = (0..n).find(|&i| reach[i] >> i & 1 == 1)?;
+    let mut cycle: Vec<ServiceId> = (0..n)
+        .filter(|&j| reach[j] >> j & 1 == 1)
+        .filter(|&j| reach[first] >> j & 1 == 1 && reach[j] >> first & 1 == 1)
+        .map(|j| sys.service(j))
+        .collect();
+    cycle.sort();
+    Some(cycle)
+}
+
+/// [`pending_cycle`] with any number of members.
+fn pending_cycle_any(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
     let n = cfg.main.len();
     let node =
         |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);

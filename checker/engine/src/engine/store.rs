@@ -26,12 +26,19 @@ pub trait Subsumes {
     fn heap_bytes(&self) -> usize {
         0
     }
+
+    /// Every value subsumes every other (untimed models): a state is
+    /// known by its words alone, so the store keeps no same-words chains
+    /// and no covered flags.
+    const TRIVIAL: bool = false;
 }
 
 impl Subsumes for () {
     fn subsumed_by(&self, _: &()) -> bool {
         true
     }
+
+    const TRIVIAL: bool = true;
 }
 
 /// End of a same-words chain.
@@ -105,6 +112,9 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     ) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
         let hash = self.hash(key);
+        if Z::TRIVIAL {
+            return self.insert_trivial(key, hash, zone, parent);
+        }
         let head = self.head(key, hash);
         let mut cur = head.unwrap_or(NONE);
         while cur != NONE {
@@ -146,6 +156,35 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.parents.push(parent.map_or(id, |(p, _)| p));
         self.via.push(parent.map(|(_, a)| a));
         (id, true)
+    }
+
+    /// [`Self::insert`] when zones are trivial: one probe of the table,
+    /// which finds the stored state or the slot of the new one.
+    fn insert_trivial(
+        &mut self,
+        key: &[u64],
+        hash: u64,
+        zone: Z,
+        parent: Option<(StateId, A)>,
+    ) -> (StateId, bool) {
+        let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
+        let (words, width, hasher) = (&self.words, self.width, &self.hasher);
+        let entry = self.table.entry(
+            hash,
+            |&other| words[other as usize * width..(other as usize + 1) * width] == *key,
+            |&other| hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width]),
+        );
+        match entry {
+            hashbrown::hash_table::Entry::Occupied(found) => (*found.get(), false),
+            hashbrown::hash_table::Entry::Vacant(slot) => {
+                slot.insert(id);
+                self.words.extend_from_slice(key);
+                self.zones.push(zone);
+                self.parents.push(parent.map_or(id, |(p, _)| p));
+                self.via.push(parent.map(|(_, a)| a));
+                (id, true)
+            }
+        }
     }
 
     /// The newest stored state with these words, if any (for untimed models,
