@@ -111,6 +111,45 @@ pub(crate) struct Found {
     pub(crate) pending: BTreeMap<ServiceId, StateId>,
     pub(crate) init_success: Option<StateId>,
     pub(crate) root: Option<StateId>,
+    /// Codels (by id) and members already in `reached` and `started`: most
+    /// states add nothing, and these are cheaper to ask.
+    seen_codels: Vec<bool>,
+    seen_members: Vec<bool>,
+}
+
+impl Found {
+    /// Notes that `codel` runs or is reached.
+    fn reach(&mut self, codel: CodelId) {
+        let k = codel.0 as usize;
+        if self.seen_codels.get(k) == Some(&true) {
+            return;
+        }
+        if self.seen_codels.len() <= k {
+            self.seen_codels.resize(k + 1, false);
+        }
+        self.seen_codels[k] = true;
+        self.reached.insert(codel);
+    }
+
+    fn has_reached(&self, codel: CodelId) -> bool {
+        self.seen_codels.get(codel.0 as usize) == Some(&true)
+    }
+
+    fn has_started(&self, i: usize) -> bool {
+        self.seen_members.get(i) == Some(&true)
+    }
+
+    /// Notes that member `i`, service `s`, starts.
+    fn start(&mut self, i: usize, s: ServiceId) {
+        if self.seen_members.get(i) == Some(&true) {
+            return;
+        }
+        if self.seen_members.len() <= i {
+            self.seen_members.resize(i + 1, false);
+        }
+        self.seen_members[i] = true;
+        self.started.insert(s);
+    }
 }
 
 /// How to turn the witnesses of one exploration into traces: the
@@ -442,17 +481,20 @@ fn visit_members(
         let m = sys.machine_of(i);
         let pos = sys.position(cfg, i);
         if let Some(codel) = pos.codel().filter(|_| pos.is_running()) {
-            found.reached.insert(codel);
+            found.reach(codel);
         }
         if cfg.main[i] != IDLE {
-            found.started.insert(s);
+            found.start(i, s);
         }
-        if sys.request_enabled_among(cfg, i, running) {
-            if let Some(k) = c.services[s].control {
-                found.reached.insert(k);
+        // Whether a request is enabled only matters while it adds a fact.
+        let control = c.services[s].control.filter(|&k| !found.has_reached(k));
+        let start = m.start.is_none() && !found.has_started(i);
+        if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
+            if let Some(k) = control {
+                found.reach(k);
             }
-            if m.start.is_none() {
-                found.started.insert(s);
+            if start {
+                found.start(i, s);
             }
         }
         if m.stop_loops[usize::from(cfg.main[i])] {

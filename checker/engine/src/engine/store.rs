@@ -41,6 +41,12 @@ impl Subsumes for () {
     const TRIVIAL: bool = true;
 }
 
+/// Word-by-word equality (a slice `==` calls `memcmp`, slow for the one or
+/// two words of most states).
+fn same_words(a: &[u64], b: &[u64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
+}
+
 /// End of a same-words chain.
 const NONE: StateId = StateId::MAX;
 
@@ -171,7 +177,12 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         let (words, width, hasher) = (&self.words, self.width, &self.hasher);
         let entry = self.table.entry(
             hash,
-            |&other| words[other as usize * width..(other as usize + 1) * width] == *key,
+            |&other| {
+                same_words(
+                    &words[other as usize * width..(other as usize + 1) * width],
+                    key,
+                )
+            },
             |&other| hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width]),
         );
         match entry {

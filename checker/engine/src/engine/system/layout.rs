@@ -22,11 +22,33 @@ impl Field {
             .get(self.word)
             .map_or(0, |w| (w >> self.shift) & self.mask)
     }
+}
 
-    fn write(self, words: &mut [u64], value: u64) {
-        if let Some(w) = words.get_mut(self.word) {
-            *w |= (value & self.mask) << self.shift;
+/// Writes fields in layout order, building each word in a register (one
+/// store per word rather than a read-modify-write per field).
+struct Writer<'w> {
+    words: &'w mut [u64],
+    word: usize,
+    acc: u64,
+}
+
+impl Writer<'_> {
+    fn write(&mut self, f: Field, value: u64) {
+        if f.mask == 0 {
+            return;
         }
+        if f.word != self.word {
+            self.flush();
+            self.word = f.word;
+        }
+        self.acc |= (value & f.mask) << f.shift;
+    }
+
+    fn flush(&mut self) {
+        if let Some(w) = self.words.get_mut(self.word) {
+            *w = self.acc;
+        }
+        self.acc = 0;
     }
 }
 
@@ -113,19 +135,24 @@ impl Layout {
     pub(super) fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
         let start = out.len();
         out.resize(start + self.width, 0);
-        let words = &mut out[start..];
-        self.init_done.write(words, u64::from(cfg.init_done));
+        let mut w = Writer {
+            words: &mut out[start..],
+            word: 0,
+            acc: 0,
+        };
+        w.write(self.init_done, u64::from(cfg.init_done));
         for ((slots, &pos), (&pending, &timed_out)) in self
             .members
             .iter()
             .zip(&cfg.main)
             .zip(cfg.pending.iter().zip(&cfg.timed_out))
         {
-            slots.pos.write(words, u64::from(pos));
-            slots.pending.write(words, u64::from(pending.is_some()));
-            slots.wait.write(words, pending.unwrap_or(0));
-            slots.timed_out.write(words, u64::from(timed_out));
+            w.write(slots.pos, u64::from(pos));
+            w.write(slots.pending, u64::from(pending.is_some()));
+            w.write(slots.wait, pending.unwrap_or(0));
+            w.write(slots.timed_out, u64::from(timed_out));
         }
+        w.flush();
     }
 
     /// Decodes `words` into `cfg`, reusing its vectors.
