@@ -12,12 +12,14 @@
 //! with an event sink it also writes the trace.
 
 mod layout;
+mod locks;
 mod model;
 mod steps;
 
 use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
 use genom_model::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
 use genom_model::trace::TraceStep;
+use locks::Who;
 
 /// A configuration of the member services.
 #[derive(Debug, PartialEq, Eq, Hash)]
@@ -130,6 +132,9 @@ pub struct System<'a> {
     running_codel: Vec<Box<[Option<CodelId>]>>,
     /// Per member: its thread (`None` for the control thread).
     threads: Vec<Option<ThreadId>>,
+    /// Which codels exclude each other (`None`: too many codels, ask
+    /// [`conflict`]).
+    locks: Option<locks::Locks>,
     /// A reused buffer for the running codels of a configuration.
     scratch: std::cell::RefCell<Vec<(usize, CodelId)>>,
     /// The partial-order reduction, when reduction is on.
@@ -184,7 +189,7 @@ impl<'a> System<'a> {
                 Some(_) => k.structures(),
                 None => Vec::new(),
             })
-            .collect();
+            .collect::<Vec<_>>();
         let layout = layout::Layout::new(&members);
         let running_codel = members
             .iter()
@@ -200,6 +205,9 @@ impl<'a> System<'a> {
             .iter()
             .map(|m| b.machine(m.service).thread)
             .collect();
+        let controls: Vec<&[(StructureId, bool)]> =
+            members.iter().map(|m| m.control.as_slice()).collect();
+        let locks = locks::Locks::new(&codel_structures, &controls);
         System {
             c,
             b,
@@ -211,6 +219,7 @@ impl<'a> System<'a> {
             layout,
             running_codel,
             threads,
+            locks,
             scratch: std::cell::RefCell::new(Vec::new()),
             reduction: None,
         }
@@ -314,7 +323,7 @@ impl<'a> System<'a> {
     /// Steps 1–3: whether a request for member `i` gets to its control
     /// codel, and the control codel can take its locks now.
     pub fn request_enabled(&self, cfg: &Config, i: usize) -> bool {
-        self.request_allowed(cfg, i) && !self.locked(cfg, &self.members[i].control, None)
+        self.request_allowed(cfg, i) && !self.locked(cfg, Who::Control(i), None)
     }
 
     /// [`Self::request_enabled`] given the codels [`Self::running`] in
@@ -327,7 +336,7 @@ impl<'a> System<'a> {
         running: &[(usize, CodelId)],
     ) -> bool {
         self.request_allowed(cfg, i)
-            && !self.locked_by(running.iter().copied(), &self.members[i].control, None)
+            && !self.locked_by(running.iter().copied(), Who::Control(i), None)
     }
 
     /// Steps 1–2 (init, `forbids`, an instance already there).
@@ -374,21 +383,16 @@ impl<'a> System<'a> {
     }
 
     /// Whether some running codel of another thread (or of `thread`)
-    /// conflicts with `uses`.
-    fn locked(
-        &self,
-        cfg: &Config,
-        uses: &[(StructureId, bool)],
-        thread: Option<(usize, ThreadId)>,
-    ) -> bool {
-        self.locked_by(self.running_iter(cfg), uses, thread)
+    /// conflicts with `who`.
+    fn locked(&self, cfg: &Config, who: Who, thread: Option<(usize, ThreadId)>) -> bool {
+        self.locked_by(self.running_iter(cfg), who, thread)
     }
 
     /// [`Self::locked`] over the given running codels.
     fn locked_by(
         &self,
         mut running: impl Iterator<Item = (usize, CodelId)>,
-        uses: &[(StructureId, bool)],
+        who: Who,
         thread: Option<(usize, ThreadId)>,
     ) -> bool {
         running.any(|(j, codel)| {
@@ -400,7 +404,16 @@ impl<'a> System<'a> {
                     return true;
                 }
             }
-            conflict(uses, &self.codel_structures[codel.0 as usize])
+            match &self.locks {
+                Some(locks) => locks.conflicts(who, codel),
+                None => {
+                    let uses = match who {
+                        Who::Codel(k) => &self.codel_structures[k.0 as usize],
+                        Who::Control(i) => &self.members[i].control,
+                    };
+                    conflict(uses, &self.codel_structures[codel.0 as usize])
+                }
+            }
         })
     }
 
@@ -408,8 +421,7 @@ impl<'a> System<'a> {
     /// running codel of another thread conflicts with it.
     pub fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
         let thread = self.threads[i].map(|t| (i, t));
-        let uses = &self.codel_structures[codel.0 as usize];
-        !self.locked(cfg, uses, thread)
+        !self.locked(cfg, Who::Codel(codel), thread)
     }
 
     /// The structures a codel of a member uses, with write access (empty
