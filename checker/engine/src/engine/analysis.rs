@@ -533,7 +533,7 @@ fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
 
 /// [`pending_cycle`] with at most 64 members: the relation as bit masks
 /// (no allocation unless there is a cycle).
-fn pending_cycle_small(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
+pub(super) fn pending_cycle_small(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
     let n = cfg.main.len();
     let node =
         |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
@@ -570,7 +570,7 @@ fn pending_cycle_small(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>>
 }
 
 /// [`pending_cycle`] with any number of members.
-fn pending_cycle_any(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
+pub(super) fn pending_cycle_any(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
     let n = cfg.main.len();
     let node =
         |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);

@@ -25,5 +25,8 @@ pub mod store;
 pub mod system;
 pub(crate) mod witness;
 
+#[cfg(test)]
+mod speed_tests;
+
 pub use analysis::{Analysis, Blocked, analyse, analyse_with};
 pub use explore::{Limits, Stop};

@@ -290,6 +290,49 @@ mod tests {
         assert!(s.bytes_per_state() > 0.0);
     }
 
+    /// Spread keys, as packed states are.
+    fn key(k: u64) -> u64 {
+        k.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+    }
+
+    /// A zone-less state kept the way zones are (same-words chains and
+    /// covered flags).
+    struct Chained;
+
+    impl Subsumes for Chained {
+        fn subsumed_by(&self, _: &Chained) -> bool {
+            true
+        }
+    }
+
+    #[test]
+    fn untimed_states_are_found_again_and_cost_no_chains() {
+        let n: u64 = 200_000;
+        let mut s: Store<char> = Store::new(1);
+        let mut timed: Store<char, Chained> = Store::new(1);
+        let (root, _) = s.insert(&[u64::MAX], (), None);
+        timed.insert(&[u64::MAX], Chained, None);
+        for k in 0..n {
+            let (id, new) = s.insert(&[key(k)], (), Some((root, 'a')));
+            assert!(new, "{k}");
+            assert_eq!(u64::from(id), k + 1);
+            assert!(timed.insert(&[key(k)], Chained, Some((root, 'a'))).1);
+        }
+        for k in (0..n).step_by(97) {
+            let id = u32::try_from(k + 1).unwrap();
+            assert_eq!(s.insert(&[key(k)], (), None), (id, false));
+            assert_eq!(s.find(&[key(k)]), Some(id));
+        }
+        assert_eq!(s.len(), timed.len());
+        assert_eq!(s.path(5), vec!['a']);
+        assert_eq!(s.root(5), root);
+        let (per, per_timed) = (s.bytes_per_state(), timed.bytes_per_state());
+        // Words, table, parent and action; no same-words link (4 bytes)
+        // nor covered flag (1) per state, which zones need.
+        assert!(per > 8.0 && per <= 32.0, "{per} bytes per state");
+        assert!(per_timed - per >= 5.0, "{per_timed} against {per}");
+    }
+
     /// Intervals ordered by inclusion, standing in for zones.
     impl Subsumes for (u32, u32) {
         fn subsumed_by(&self, other: &Self) -> bool {

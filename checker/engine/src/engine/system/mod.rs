@@ -15,6 +15,8 @@ mod layout;
 mod locks;
 mod model;
 mod steps;
+#[cfg(test)]
+mod tests;
 
 use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
 use genom_model::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
