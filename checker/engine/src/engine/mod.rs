@@ -19,6 +19,7 @@
 pub mod analysis;
 pub mod compose;
 pub mod explore;
+mod pending;
 pub mod petri_check;
 pub mod reduction;
 pub mod store;

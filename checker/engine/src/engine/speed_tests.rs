@@ -8,8 +8,8 @@ use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::ServiceId;
 
-use super::analysis::{pending_cycle_any, pending_cycle_small};
 use super::explore::{Limits, explore};
+use super::pending::{pending_cycle_any, pending_cycle_small};
 use super::system::System;
 use crate::testing::check;
 
