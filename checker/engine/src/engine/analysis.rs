@@ -12,6 +12,7 @@ use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
+use super::pending::pending_cycle;
 use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 use super::witness::replay;
@@ -84,8 +85,11 @@ pub struct Analysis {
     pub transitions: u64,
     /// Time spent exploring.
     pub elapsed: Duration,
-    /// Bytes per stored state (largest exploration).
+    /// Bytes per stored state of the largest exploration (a small one's
+    /// fixed overhead per state says nothing about the store).
     pub bytes_per_state: f64,
+    /// States of that largest exploration.
+    largest: usize,
     /// States expanded with a reduced set of actions (partial-order
     /// reduction).
     pub reduced: u64,
@@ -108,6 +112,45 @@ pub(crate) struct Found {
     pub(crate) pending: BTreeMap<ServiceId, StateId>,
     pub(crate) init_success: Option<StateId>,
     pub(crate) root: Option<StateId>,
+    /// Codels (by id) and members already in `reached` and `started`: most
+    /// states add nothing, and these are cheaper to ask.
+    seen_codels: Vec<bool>,
+    seen_members: Vec<bool>,
+}
+
+impl Found {
+    /// Notes that `codel` runs or is reached.
+    fn reach(&mut self, codel: CodelId) {
+        let k = codel.0 as usize;
+        if self.seen_codels.get(k) == Some(&true) {
+            return;
+        }
+        if self.seen_codels.len() <= k {
+            self.seen_codels.resize(k + 1, false);
+        }
+        self.seen_codels[k] = true;
+        self.reached.insert(codel);
+    }
+
+    fn has_reached(&self, codel: CodelId) -> bool {
+        self.seen_codels.get(codel.0 as usize) == Some(&true)
+    }
+
+    fn has_started(&self, i: usize) -> bool {
+        self.seen_members.get(i) == Some(&true)
+    }
+
+    /// Notes that member `i`, service `s`, starts.
+    fn start(&mut self, i: usize, s: ServiceId) {
+        if self.seen_members.get(i) == Some(&true) {
+            return;
+        }
+        if self.seen_members.len() <= i {
+            self.seen_members.resize(i + 1, false);
+        }
+        self.seen_members[i] = true;
+        self.started.insert(s);
+    }
 }
 
 /// How to turn the witnesses of one exploration into traces: the
@@ -375,7 +418,10 @@ impl Analysis {
         self.states += other.states;
         self.transitions += other.transitions;
         self.elapsed += other.elapsed;
-        self.bytes_per_state = self.bytes_per_state.max(other.bytes_per_state);
+        if other.largest > self.largest {
+            self.largest = other.largest;
+            self.bytes_per_state = other.bytes_per_state;
+        }
         self.reduced += other.reduced;
         self.parts += other.parts;
         for (s, b) in other.dead_candidates {
@@ -395,7 +441,10 @@ impl Analysis {
         self.transitions += e.transitions;
         self.elapsed += e.elapsed;
         self.reduced += e.reduced;
-        self.bytes_per_state = self.bytes_per_state.max(e.store.bytes_per_state());
+        if states > self.largest || self.largest == 0 {
+            self.largest = states;
+            self.bytes_per_state = e.store.bytes_per_state();
+        }
         budget.max_states = budget.max_states.saturating_sub(states).max(1);
         if e.stopped.is_some() {
             self.stopped = self.stopped.or(e.stopped);
@@ -405,29 +454,48 @@ impl Analysis {
 
 /// Reads the properties of one new state.
 pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
-    let c = sys.component();
     found.root.get_or_insert(id);
     if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
         found.init_success = Some(id);
     }
+    sys.with_running(cfg, |running| visit_members(sys, id, cfg, running, found));
+    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
+        if let Some(cycle) = pending_cycle(sys, cfg) {
+            found.deadlocks.entry(cycle).or_insert(id);
+        }
+    }
+}
+
+/// Reads the properties of each member in a new state, given the running
+/// codels.
+fn visit_members(
+    sys: &System<'_>,
+    id: StateId,
+    cfg: &Config,
+    running: &[(usize, CodelId)],
+    found: &mut Found,
+) {
+    let c = sys.component();
     let n = cfg.main.len();
-    let running = sys.running(cfg);
     for i in (0..n).filter(|&i| !sys.is_input(i)) {
         let s = sys.service(i);
         let m = sys.machine_of(i);
         let pos = sys.position(cfg, i);
         if let Some(codel) = pos.codel().filter(|_| pos.is_running()) {
-            found.reached.insert(codel);
+            found.reach(codel);
         }
         if cfg.main[i] != IDLE {
-            found.started.insert(s);
+            found.start(i, s);
         }
-        if sys.request_enabled_among(cfg, i, &running) {
-            if let Some(k) = c.services[s].control {
-                found.reached.insert(k);
+        // Whether a request is enabled only matters while it adds a fact.
+        let control = c.services[s].control.filter(|&k| !found.has_reached(k));
+        let start = m.start.is_none() && !found.has_started(i);
+        if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
+            if let Some(k) = control {
+                found.reach(k);
             }
-            if m.start.is_none() {
-                found.started.insert(s);
+            if start {
+                found.start(i, s);
             }
         }
         if m.stop_loops[usize::from(cfg.main[i])] {
@@ -438,18 +506,13 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
             starving(sys, id, cfg, i, found);
         }
     }
-    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
-        if let Some(cycle) = pending_cycle(sys, cfg) {
-            found.deadlocks.entry(cycle).or_insert(id);
-        }
-    }
 }
 
 fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
     if sys.machine_of(i).watchdog {
         return;
     }
-    for (t, via_delays) in sys.blockers(cfg, i) {
+    for (t, via_delays) in sys.blockers_iter(cfg, i) {
         if sys.may_never_end(cfg, t) {
             found
                 .starvations
@@ -457,46 +520,6 @@ fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut F
                 .or_insert((id, via_delays));
         }
     }
-}
-
-/// Services of a cycle of pending instances blocking each other through
-/// `delays`, none of which a watchdog can end.
-fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
-    let n = cfg.main.len();
-    let node =
-        |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
-    let edges: Vec<Vec<usize>> = (0..n)
-        .map(|i| {
-            if !node(i) {
-                return Vec::new();
-            }
-            sys.blockers(cfg, i)
-                .into_iter()
-                .filter(|&(t, d)| d && node(t))
-                .map(|(t, _)| t)
-                .collect()
-        })
-        .collect();
-    let reach = |from: usize| {
-        let mut seen = vec![false; n];
-        let mut stack = edges[from].clone();
-        while let Some(x) = stack.pop() {
-            if !std::mem::replace(&mut seen[x], true) {
-                stack.extend(edges[x].iter().copied());
-            }
-        }
-        seen
-    };
-    let closure: Vec<Vec<bool>> = (0..n).map(reach).collect();
-    let on_cycle: Vec<usize> = (0..n).filter(|&i| closure[i][i]).collect();
-    let first = *on_cycle.first()?;
-    let mut cycle: Vec<ServiceId> = on_cycle
-        .iter()
-        .filter(|&&j| closure[first][j] && closure[j][first])
-        .map(|&j| sys.service(j))
-        .collect();
-    cycle.sort();
-    Some(cycle)
 }
 
 /// Turns the witnesses of one exploration into traces.

@@ -36,6 +36,29 @@ pub trait Model {
     fn decode(&self, words: &[u64], zone: &Self::Zone) -> Self::State;
     /// The zone of a state.
     fn zone(&self, state: &Self::State) -> Self::Zone;
+    /// [`Self::decode`] into a reused buffer (`out` holds a state decoded
+    /// earlier, or nothing). The default decodes afresh; a model whose
+    /// states own allocations overrides it to reuse them.
+    fn decode_into(&self, words: &[u64], zone: &Self::Zone, out: &mut Option<Self::State>) {
+        *out = Some(self.decode(words, zone));
+    }
+    /// [`Self::next_state`] into a reused buffer: `false` (and `out` left
+    /// unspecified) when the action changes nothing, else the successor is
+    /// in `out`. The default calls [`Self::next_state`].
+    fn step_into(
+        &self,
+        state: &Self::State,
+        action: Self::Action,
+        out: &mut Option<Self::State>,
+    ) -> bool {
+        match self.next_state(state, action) {
+            Some(next) => {
+                *out = Some(next);
+                true
+            }
+            None => false,
+        }
+    }
     /// Whether to expand the successors of a state (default: all).
     fn expand(&self, _state: &Self::State) -> bool {
         true
@@ -131,6 +154,9 @@ pub fn explore<M: Model>(
         }
     }
     let mut actions = Vec::new();
+    // Reused buffers: the expanded state and one successor.
+    let mut current: Option<M::State> = None;
+    let mut successor: Option<M::State> = None;
     let mut transitions = 0u64;
     let mut next: usize = 0;
     let mut stopped = None;
@@ -146,28 +172,35 @@ pub fn explore<M: Model>(
         if store.is_covered(id) {
             continue;
         }
-        let state = model.decode(store.get(id), store.zone(id));
-        if !model.expand(&state) {
+        model.decode_into(store.get(id), store.zone(id), &mut current);
+        let Some(state) = current.as_ref() else {
+            continue;
+        };
+        if !model.expand(state) {
             continue;
         }
         actions.clear();
-        model.actions(&state, &mut actions);
-        let mut limit = model.reduce(&state, &mut actions).min(actions.len());
+        model.actions(state, &mut actions);
+        let mut limit = model.reduce(state, &mut actions).min(actions.len());
         let mut k = 0;
         let mut old_successor = false;
         while k < limit {
             let a = actions[k];
             k += 1;
-            match model.next_state(&state, a) {
+            let succ = match model.step_into(state, a, &mut successor) {
+                true => successor.as_ref(),
+                false => None,
+            };
+            match succ {
                 // No change: a self-loop, hence a stored successor.
                 None => old_successor = true,
                 Some(succ) => {
                     transitions += 1;
                     key.clear();
-                    model.encode(&succ, &mut key);
-                    let (sid, new) = store.insert(&key, model.zone(&succ), Some((id, a)));
+                    model.encode(succ, &mut key);
+                    let (sid, new) = store.insert(&key, model.zone(succ), Some((id, a)));
                     if new {
-                        visit(sid, &succ);
+                        visit(sid, succ);
                     }
                     old_successor |= !new;
                     stopped = check_successor(&store, limits, new, transitions, period);

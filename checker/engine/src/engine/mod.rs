@@ -19,11 +19,15 @@
 pub mod analysis;
 pub mod compose;
 pub mod explore;
+mod pending;
 pub mod petri_check;
 pub mod reduction;
 pub mod store;
 pub mod system;
 pub(crate) mod witness;
+
+#[cfg(test)]
+mod speed_tests;
 
 pub use analysis::{Analysis, Blocked, analyse, analyse_with};
 pub use explore::{Limits, Stop};

@@ -26,12 +26,25 @@ pub trait Subsumes {
     fn heap_bytes(&self) -> usize {
         0
     }
+
+    /// Every value subsumes every other (untimed models): a state is
+    /// known by its words alone, so the store keeps no same-words chains
+    /// and no covered flags.
+    const TRIVIAL: bool = false;
 }
 
 impl Subsumes for () {
     fn subsumed_by(&self, _: &()) -> bool {
         true
     }
+
+    const TRIVIAL: bool = true;
+}
+
+/// Word-by-word equality (a slice `==` calls `memcmp`, slow for the one or
+/// two words of most states).
+fn same_words(a: &[u64], b: &[u64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
 }
 
 /// End of a same-words chain.
@@ -105,6 +118,9 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     ) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
         let hash = self.hash(key);
+        if Z::TRIVIAL {
+            return self.insert_trivial(key, hash, zone, parent);
+        }
         let head = self.head(key, hash);
         let mut cur = head.unwrap_or(NONE);
         while cur != NONE {
@@ -146,6 +162,40 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.parents.push(parent.map_or(id, |(p, _)| p));
         self.via.push(parent.map(|(_, a)| a));
         (id, true)
+    }
+
+    /// [`Self::insert`] when zones are trivial: one probe of the table,
+    /// which finds the stored state or the slot of the new one.
+    fn insert_trivial(
+        &mut self,
+        key: &[u64],
+        hash: u64,
+        zone: Z,
+        parent: Option<(StateId, A)>,
+    ) -> (StateId, bool) {
+        let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
+        let (words, width, hasher) = (&self.words, self.width, &self.hasher);
+        let entry = self.table.entry(
+            hash,
+            |&other| {
+                same_words(
+                    &words[other as usize * width..(other as usize + 1) * width],
+                    key,
+                )
+            },
+            |&other| hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width]),
+        );
+        match entry {
+            hashbrown::hash_table::Entry::Occupied(found) => (*found.get(), false),
+            hashbrown::hash_table::Entry::Vacant(slot) => {
+                slot.insert(id);
+                self.words.extend_from_slice(key);
+                self.zones.push(zone);
+                self.parents.push(parent.map_or(id, |(p, _)| p));
+                self.via.push(parent.map(|(_, a)| a));
+                (id, true)
+            }
+        }
     }
 
     /// The newest stored state with these words, if any (for untimed models,
@@ -238,6 +288,49 @@ mod tests {
         assert_eq!(s.path(c), vec!['x', 'y']);
         assert_eq!(s.root(c), a);
         assert!(s.bytes_per_state() > 0.0);
+    }
+
+    /// Spread keys, as packed states are.
+    fn key(k: u64) -> u64 {
+        k.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+    }
+
+    /// A zone-less state kept the way zones are (same-words chains and
+    /// covered flags).
+    struct Chained;
+
+    impl Subsumes for Chained {
+        fn subsumed_by(&self, _: &Chained) -> bool {
+            true
+        }
+    }
+
+    #[test]
+    fn untimed_states_are_found_again_and_cost_no_chains() {
+        let n: u64 = 200_000;
+        let mut s: Store<char> = Store::new(1);
+        let mut timed: Store<char, Chained> = Store::new(1);
+        let (root, _) = s.insert(&[u64::MAX], (), None);
+        timed.insert(&[u64::MAX], Chained, None);
+        for k in 0..n {
+            let (id, new) = s.insert(&[key(k)], (), Some((root, 'a')));
+            assert!(new, "{k}");
+            assert_eq!(u64::from(id), k + 1);
+            assert!(timed.insert(&[key(k)], Chained, Some((root, 'a'))).1);
+        }
+        for k in (0..n).step_by(97) {
+            let id = u32::try_from(k + 1).unwrap();
+            assert_eq!(s.insert(&[key(k)], (), None), (id, false));
+            assert_eq!(s.find(&[key(k)]), Some(id));
+        }
+        assert_eq!(s.len(), timed.len());
+        assert_eq!(s.path(5), vec!['a']);
+        assert_eq!(s.root(5), root);
+        let (per, per_timed) = (s.bytes_per_state(), timed.bytes_per_state());
+        // Words, table, parent and action; no same-words link (4 bytes)
+        // nor covered flag (1) per state, which zones need.
+        assert!(per > 8.0 && per <= 32.0, "{per} bytes per state");
+        assert!(per_timed - per >= 5.0, "{per_timed} against {per}");
     }
 
     /// Intervals ordered by inclusion, standing in for zones.

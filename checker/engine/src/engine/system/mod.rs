@@ -11,15 +11,20 @@
 //! codel runs. One function, [`System::apply`], defines every transition;
 //! with an event sink it also writes the trace.
 
+mod layout;
+mod locks;
 mod model;
 mod steps;
+#[cfg(test)]
+mod tests;
 
 use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
 use genom_model::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
 use genom_model::trace::TraceStep;
+use locks::Who;
 
 /// A configuration of the member services.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, PartialEq, Eq, Hash)]
 pub struct Config {
     /// Whether the `init` service has completed successfully (always true
     /// without an init service).
@@ -32,6 +37,26 @@ pub struct Config {
     /// Whether each member's main instance was interrupted by its max-time
     /// watchdog (it then replies `TIMEOUT` rather than `INTERRUPTED`).
     pub timed_out: Vec<bool>,
+}
+
+impl Clone for Config {
+    fn clone(&self) -> Self {
+        Config {
+            init_done: self.init_done,
+            main: self.main.clone(),
+            pending: self.pending.clone(),
+            timed_out: self.timed_out.clone(),
+        }
+    }
+
+    /// Field by field, so that the explorer's successor buffer keeps its
+    /// vectors (the derived `clone_from` would allocate new ones).
+    fn clone_from(&mut self, source: &Self) {
+        self.init_done = source.init_done;
+        self.main.clone_from(&source.main);
+        self.pending.clone_from(&source.pending);
+        self.timed_out.clone_from(&source.timed_out);
+    }
 }
 
 /// A transition.
@@ -102,8 +127,18 @@ pub struct System<'a> {
     /// Structures used by each codel of a member, with write access (empty
     /// for the codels of other services).
     codel_structures: Vec<Vec<(StructureId, bool)>>,
-    /// Words per encoded configuration.
-    width: usize,
+    /// Where each field of an encoded configuration lies.
+    layout: layout::Layout,
+    /// Per member, per position: the codel running there, if any (read on
+    /// every transition, so kept apart from the machines).
+    running_codel: Vec<Box<[Option<CodelId>]>>,
+    /// Per member: its thread (`None` for the control thread).
+    threads: Vec<Option<ThreadId>>,
+    /// Which codels exclude each other (`None`: too many codels, ask
+    /// [`conflict`]).
+    locks: Option<locks::Locks>,
+    /// A reused buffer for the running codels of a configuration.
+    scratch: std::cell::RefCell<Vec<(usize, CodelId)>>,
     /// The partial-order reduction, when reduction is on.
     reduction: Option<Box<dyn Reduce>>,
 }
@@ -156,8 +191,25 @@ impl<'a> System<'a> {
                 Some(_) => k.structures(),
                 None => Vec::new(),
             })
+            .collect::<Vec<_>>();
+        let layout = layout::Layout::new(&members);
+        let running_codel = members
+            .iter()
+            .map(|m| {
+                let positions = &b.machine(m.service).positions;
+                positions
+                    .iter()
+                    .map(|p| p.codel().filter(|_| p.is_running()))
+                    .collect()
+            })
             .collect();
-        let width = width(&members);
+        let threads = members
+            .iter()
+            .map(|m| b.machine(m.service).thread)
+            .collect();
+        let controls: Vec<&[(StructureId, bool)]> =
+            members.iter().map(|m| m.control.as_slice()).collect();
+        let locks = locks::Locks::new(&codel_structures, &controls);
         System {
             c,
             b,
@@ -166,7 +218,11 @@ impl<'a> System<'a> {
             init: c.init_service(),
             pre_init,
             codel_structures,
-            width,
+            layout,
+            running_codel,
+            threads,
+            locks,
+            scratch: std::cell::RefCell::new(Vec::new()),
             reduction: None,
         }
     }
@@ -269,7 +325,7 @@ impl<'a> System<'a> {
     /// Steps 1–3: whether a request for member `i` gets to its control
     /// codel, and the control codel can take its locks now.
     pub fn request_enabled(&self, cfg: &Config, i: usize) -> bool {
-        self.request_allowed(cfg, i) && !self.locked(cfg, &self.members[i].control, None)
+        self.request_allowed(cfg, i) && !self.locked(cfg, Who::Control(i), None)
     }
 
     /// [`Self::request_enabled`] given the codels [`Self::running`] in
@@ -282,7 +338,7 @@ impl<'a> System<'a> {
         running: &[(usize, CodelId)],
     ) -> bool {
         self.request_allowed(cfg, i)
-            && !self.locked_by(running.iter().copied(), &self.members[i].control, None)
+            && !self.locked_by(running.iter().copied(), Who::Control(i), None)
     }
 
     /// Steps 1–2 (init, `forbids`, an instance already there).
@@ -302,29 +358,43 @@ impl<'a> System<'a> {
         self.running_iter(cfg).collect()
     }
 
+    /// Calls `f` with [`Self::running`], gathered in a reused buffer.
+    pub fn with_running<R>(&self, cfg: &Config, f: impl FnOnce(&[(usize, CodelId)]) -> R) -> R {
+        match self.scratch.try_borrow_mut() {
+            Ok(mut scratch) => {
+                scratch.clear();
+                scratch.extend(self.running_iter(cfg));
+                f(scratch.as_slice())
+            }
+            Err(_) => f(&self.running(cfg)),
+        }
+    }
+
     fn running_iter<'c>(&'c self, cfg: &'c Config) -> impl Iterator<Item = (usize, CodelId)> + 'c {
-        (0..self.members.len()).filter_map(move |j| {
-            let p = self.position(cfg, j);
-            p.codel().filter(|_| p.is_running()).map(|codel| (j, codel))
-        })
+        self.running_codel
+            .iter()
+            .zip(&cfg.main)
+            .enumerate()
+            .filter_map(|(j, (table, &p))| {
+                table
+                    .get(usize::from(p))
+                    .copied()
+                    .flatten()
+                    .map(|codel| (j, codel))
+            })
     }
 
     /// Whether some running codel of another thread (or of `thread`)
-    /// conflicts with `uses`.
-    fn locked(
-        &self,
-        cfg: &Config,
-        uses: &[(StructureId, bool)],
-        thread: Option<(usize, ThreadId)>,
-    ) -> bool {
-        self.locked_by(self.running_iter(cfg), uses, thread)
+    /// conflicts with `who`.
+    fn locked(&self, cfg: &Config, who: Who, thread: Option<(usize, ThreadId)>) -> bool {
+        self.locked_by(self.running_iter(cfg), who, thread)
     }
 
     /// [`Self::locked`] over the given running codels.
     fn locked_by(
         &self,
         mut running: impl Iterator<Item = (usize, CodelId)>,
-        uses: &[(StructureId, bool)],
+        who: Who,
         thread: Option<(usize, ThreadId)>,
     ) -> bool {
         running.any(|(j, codel)| {
@@ -332,20 +402,28 @@ impl<'a> System<'a> {
                 if j == me {
                     return false;
                 }
-                if self.machine(j).thread == Some(t) {
+                if self.threads[j] == Some(t) {
                     return true;
                 }
             }
-            conflict(uses, &self.codel_structures[codel.0 as usize])
+            match &self.locks {
+                Some(locks) => locks.conflicts(who, codel),
+                None => {
+                    let uses = match who {
+                        Who::Codel(k) => &self.codel_structures[k.0 as usize],
+                        Who::Control(i) => &self.members[i].control,
+                    };
+                    conflict(uses, &self.codel_structures[codel.0 as usize])
+                }
+            }
         })
     }
 
     /// Whether member `i` may begin `codel` now: its thread is free and no
     /// running codel of another thread conflicts with it.
     pub fn can_begin(&self, cfg: &Config, i: usize, codel: CodelId) -> bool {
-        let thread = self.machine(i).thread.map(|t| (i, t));
-        let uses = &self.codel_structures[codel.0 as usize];
-        !self.locked(cfg, uses, thread)
+        let thread = self.threads[i].map(|t| (i, t));
+        !self.locked(cfg, Who::Codel(codel), thread)
     }
 
     /// The structures a codel of a member uses, with write access (empty
@@ -465,82 +543,6 @@ fn member(
         can_pend,
         watchdog: svc.max_time.is_some(),
         input,
-    }
-}
-
-/// Words per encoded configuration: fields never straddle words, so count
-/// the way [`BitWriter`] fills them.
-fn width(members: &[Member]) -> usize {
-    let mut fields = vec![1u32];
-    for m in members {
-        fields.push(m.pos_bits);
-        if m.can_pend {
-            fields.push(1);
-            fields.push(stop_bits(m));
-        }
-        fields.push(u32::from(m.watchdog));
-    }
-    let (mut words, mut used) = (0, 64);
-    for bits in fields.into_iter().filter(|&b| b > 0) {
-        if used + bits > 64 {
-            words += 1;
-            used = 0;
-        }
-        used += bits;
-    }
-    words.max(1)
-}
-
-/// Packs values into 64-bit words.
-struct BitWriter<'w> {
-    out: &'w mut Vec<u64>,
-    used: u32,
-}
-
-impl BitWriter<'_> {
-    fn put(&mut self, value: u64, bits: u32) {
-        if bits == 0 {
-            return;
-        }
-        if self.used == 0 || self.used + bits > 64 {
-            self.out.push(0);
-            self.used = 0;
-        }
-        if let Some(last) = self.out.last_mut() {
-            *last |= value << self.used;
-        }
-        self.used += bits;
-    }
-}
-
-struct BitReader<'w> {
-    words: &'w [u64],
-    word: usize,
-    used: u32,
-    started: bool,
-}
-
-impl BitReader<'_> {
-    fn get(&mut self, bits: u32) -> u64 {
-        if bits == 0 {
-            return 0;
-        }
-        if !self.started || self.used + bits > 64 {
-            if self.started {
-                self.word += 1;
-            }
-            self.started = true;
-            self.used = 0;
-        }
-        let w = self.words.get(self.word).copied().unwrap_or(0);
-        let mask = if bits == 64 {
-            u64::MAX
-        } else {
-            (1 << bits) - 1
-        };
-        let v = (w >> self.used) & mask;
-        self.used += bits;
-        v
     }
 }
 

@@ -2,9 +2,9 @@
 //! successors, the bit encoding of configurations and the partial-order
 //! reduction hook.
 
-use genom_model::behaviour::{IDLE, PosId};
+use genom_model::component::CodelId;
 
-use super::{Action, BitReader, BitWriter, Config, System, stop_bits};
+use super::{Action, Config, System};
 use crate::engine::explore::Model;
 
 impl Model for System<'_> {
@@ -13,7 +13,7 @@ impl Model for System<'_> {
     type Action = Action;
 
     fn width(&self) -> usize {
-        self.width
+        self.layout.width
     }
 
     fn init_states(&self) -> Vec<Config> {
@@ -21,10 +21,64 @@ impl Model for System<'_> {
     }
 
     fn actions(&self, cfg: &Config, out: &mut Vec<Action>) {
-        let running = self.running(cfg);
+        self.with_running(cfg, |running| self.actions_among(cfg, running, out));
+    }
+    fn next_state(&self, cfg: &Config, action: Action) -> Option<Config> {
+        self.apply(cfg, action, &mut None)
+    }
+
+    fn step_into(&self, cfg: &Config, action: Action, out: &mut Option<Config>) -> bool {
+        match out {
+            Some(next) => next.clone_from(cfg),
+            None => *out = Some(cfg.clone()),
+        }
+        out.as_mut()
+            .is_some_and(|next| self.apply_in_place(next, action, &mut None))
+    }
+
+    fn decode_into(&self, words: &[u64], (): &(), out: &mut Option<Config>) {
+        match out {
+            Some(cfg) => self.layout.decode(words, cfg),
+            None => *out = Some(self.decode(words, &())),
+        }
+    }
+
+    fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
+        self.layout.encode(cfg, out);
+    }
+
+    fn zone(&self, _: &Config) {}
+
+    fn decode(&self, words: &[u64], (): &()) -> Config {
+        let n = self.members.len();
+        let mut cfg = Config {
+            init_done: false,
+            main: Vec::with_capacity(n),
+            pending: Vec::with_capacity(n),
+            timed_out: Vec::with_capacity(n),
+        };
+        self.layout.decode(words, &mut cfg);
+        cfg
+    }
+
+    fn expand(&self, cfg: &Config) -> bool {
+        !(self.pre_init && cfg.init_done)
+    }
+
+    fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
+        match &self.reduction {
+            Some(r) => r.stubborn(self, cfg, actions),
+            None => actions.len(),
+        }
+    }
+}
+
+impl System<'_> {
+    /// [`Model::actions`] given the running codels.
+    fn actions_among(&self, cfg: &Config, running: &[(usize, CodelId)], out: &mut Vec<Action>) {
         for (i, m) in self.members.iter().enumerate().filter(|(_, m)| !m.input) {
             let s = m.service;
-            if self.request_enabled_among(cfg, i, &running) {
+            if self.request_enabled_among(cfg, i, running) {
                 out.push(Action::Request(s));
             }
             let mach = self.machine(i);
@@ -41,64 +95,6 @@ impl Model for System<'_> {
             if mach.watchdog && mach.interrupt[p].is_some() {
                 out.push(Action::Watchdog(s, false));
             }
-        }
-    }
-
-    fn next_state(&self, cfg: &Config, action: Action) -> Option<Config> {
-        self.apply(cfg, action, &mut None)
-    }
-
-    fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
-        let start = out.len();
-        let mut w = BitWriter { out, used: 0 };
-        w.put(u64::from(cfg.init_done), 1);
-        for (i, m) in self.members.iter().enumerate() {
-            w.put(u64::from(cfg.main[i]), m.pos_bits);
-            if m.can_pend {
-                w.put(u64::from(cfg.pending[i].is_some()), 1);
-                w.put(cfg.pending[i].unwrap_or(0), stop_bits(m));
-            }
-            w.put(u64::from(cfg.timed_out[i]), u32::from(m.watchdog));
-        }
-        out.resize(start + self.width, 0);
-    }
-
-    fn zone(&self, _: &Config) {}
-
-    fn decode(&self, words: &[u64], (): &()) -> Config {
-        let mut r = BitReader {
-            words,
-            word: 0,
-            used: 0,
-            started: false,
-        };
-        let init_done = r.get(1) == 1;
-        let n = self.members.len();
-        let mut cfg = Config {
-            init_done,
-            main: Vec::with_capacity(n),
-            pending: Vec::with_capacity(n),
-            timed_out: Vec::with_capacity(n),
-        };
-        for m in &self.members {
-            cfg.main
-                .push(PosId::try_from(r.get(m.pos_bits)).unwrap_or(IDLE));
-            let pending = m.can_pend && r.get(1) == 1;
-            let mask = if m.can_pend { r.get(stop_bits(m)) } else { 0 };
-            cfg.pending.push(pending.then_some(mask));
-            cfg.timed_out.push(m.watchdog && r.get(1) == 1);
-        }
-        cfg
-    }
-
-    fn expand(&self, cfg: &Config) -> bool {
-        !(self.pre_init && cfg.init_done)
-    }
-
-    fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
-        match &self.reduction {
-            Some(r) => r.stubborn(self, cfg, actions),
-            None => actions.len(),
         }
     }
 }

@@ -18,16 +18,33 @@ impl<'a> System<'a> {
         action: Action,
         events: &mut Option<&mut Vec<TraceStep>>,
     ) -> Option<Config> {
-        let i = self.member_index(action.service())?;
         let mut next = cfg.clone();
-        match action {
-            Action::Request(_) => self.request(&mut next, i, events)?,
-            Action::Begin(_) => self.begin(&mut next, i, events)?,
-            Action::Finish(_, k) => self.finish(&mut next, i, usize::from(k), events)?,
-            Action::Watchdog(_, pending) => self.watchdog(&mut next, i, pending, events)?,
+        self.apply_in_place(&mut next, action, events)
+            .then_some(next)
+    }
+
+    /// [`Self::apply`] on `cfg` itself (no allocation): `false`, with `cfg`
+    /// unspecified, if the action is not enabled.
+    pub fn apply_in_place(
+        &self,
+        cfg: &mut Config,
+        action: Action,
+        events: &mut Option<&mut Vec<TraceStep>>,
+    ) -> bool {
+        let Some(i) = self.member_index(action.service()) else {
+            return false;
+        };
+        let done = match action {
+            Action::Request(_) => self.request(cfg, i, events),
+            Action::Begin(_) => self.begin(cfg, i, events),
+            Action::Finish(_, k) => self.finish(cfg, i, usize::from(k), events),
+            Action::Watchdog(_, pending) => self.watchdog(cfg, i, pending, events),
+        };
+        if done.is_none() {
+            return false;
         }
-        self.closure(&mut next, events);
-        Some(next)
+        self.closure(cfg, events);
+        true
     }
 
     pub(super) fn request(
@@ -44,13 +61,13 @@ impl<'a> System<'a> {
             (None, format!("a client requests `{}`", self.name(s)))
         });
         if let Some(control) = self.c.services[s].control {
-            let f = self.function(control);
             self.emit(ev, Event::Accept, s, Some(control), || {
+                let f = self.function(control);
                 (None, format!("control codel `{f}` accepts the request"))
             });
         }
         let mut mask = 0u64;
-        for (bit, &t) in self.members[i].stops.clone().iter().enumerate() {
+        for (bit, &t) in self.members[i].stops.iter().enumerate() {
             self.interrupt_pending(cfg, t, false, ev);
             self.interrupt_main(cfg, t, false, ev);
             if cfg.main[t] != IDLE {
@@ -115,10 +132,10 @@ impl<'a> System<'a> {
         } else {
             Event::Interrupt
         };
-        let place = at
-            .map(|c| format!(" at `{}`", self.c.codels[c].name.name))
-            .unwrap_or_default();
         self.emit(ev, event, s, at, || {
+            let place = at
+                .map(|c| format!(" at `{}`", self.c.codels[c].name.name))
+                .unwrap_or_default();
             (None, format!("{who} `{}`{place}", self.name(s)))
         });
         match effect {
@@ -144,12 +161,13 @@ impl<'a> System<'a> {
         }
         cfg.main[i] = q;
         let s = self.members[i].service;
-        let thread = m.thread.map_or_else(
-            || "control".to_owned(),
-            |t| self.c.threads[t].name.name.clone(),
-        );
-        let text = format!("thread `{thread}` runs `{}`", self.c.codel_label(codel));
-        self.emit(ev, Event::CodelStart, s, Some(codel), || (None, text));
+        self.emit(ev, Event::CodelStart, s, Some(codel), || {
+            let thread = m
+                .thread
+                .map_or("control", |t| self.c.threads[t].name.name.as_str());
+            let text = format!("thread `{thread}` runs `{}`", self.c.codel_label(codel));
+            (None, text)
+        });
         Some(())
     }
 
@@ -214,16 +232,18 @@ impl<'a> System<'a> {
         cfg.main[i] = IDLE;
         cfg.timed_out[i] = false;
         let s = self.members[i].service;
-        let reply = match ending {
-            Ending::Success => "end".to_owned(),
-            Ending::Report(r) => self.c.services[s]
-                .reports
-                .get(r)
-                .map_or_else(String::new, |r| r.name.clone()),
-            Ending::Interrupted if timeout => "TIMEOUT".to_owned(),
-            Ending::Interrupted => "INTERRUPTED".to_owned(),
-        };
-        self.emit_reply(ev, s, &reply);
+        if ev.is_some() {
+            let reply = match ending {
+                Ending::Success => "end",
+                Ending::Report(r) => self.c.services[s]
+                    .reports
+                    .get(r)
+                    .map_or("", |r| r.name.as_str()),
+                Ending::Interrupted if timeout => "TIMEOUT",
+                Ending::Interrupted => "INTERRUPTED",
+            };
+            self.emit_reply(ev, s, reply);
+        }
         for (k, m) in self.members.iter().enumerate() {
             if let Some(mask) = cfg.pending[k] {
                 let ended: u64 = m
@@ -319,24 +339,29 @@ impl<'a> System<'a> {
     /// (`true`: through `delays`; `false`: waiting for an interrupted
     /// instance to end).
     pub fn blockers(&self, cfg: &Config, i: usize) -> Vec<(usize, bool)> {
-        let Some(mask) = cfg.pending[i] else {
-            return Vec::new();
-        };
+        self.blockers_iter(cfg, i).collect()
+    }
+
+    /// [`Self::blockers`], without collecting them.
+    pub fn blockers_iter<'s>(
+        &'s self,
+        cfg: &'s Config,
+        i: usize,
+    ) -> impl Iterator<Item = (usize, bool)> + 's {
+        let mask = cfg.pending[i];
         let m = &self.members[i];
-        let mut out: Vec<(usize, bool)> = m
+        let delayed = m
             .delayers
             .iter()
-            .filter(|&&t| Self::has_instance(cfg, t))
-            .map(|&t| (t, true))
-            .collect();
-        out.extend(
-            m.stops
-                .iter()
-                .enumerate()
-                .filter(|(b, _)| mask & (1 << b) != 0)
-                .map(|(_, &t)| (t, false)),
-        );
-        out
+            .filter(move |&&t| mask.is_some() && Self::has_instance(cfg, t))
+            .map(|&t| (t, true));
+        let waiting = m
+            .stops
+            .iter()
+            .enumerate()
+            .filter(move |(b, _)| mask.is_some_and(|mask| mask & (1 << b) != 0))
+            .map(|(_, &t)| (t, false));
+        delayed.chain(waiting)
     }
 
     pub(super) fn name(&self, s: ServiceId) -> &'a str {

@@ -1,0 +1,172 @@
+//! The bit layout of an encoded configuration: where each member's
+//! position, pending flag, wait mask and watchdog flag lie in the state's
+//! words, computed once per system so that encoding and decoding are one
+//! shift and mask per field (no field straddles two words).
+
+use genom_model::behaviour::{IDLE, PosId};
+
+use super::{Config, Member, stop_bits};
+
+/// One field: `bits` bits at `shift` in word `word` (`mask == 0` for an
+/// absent field, which then reads as zero and writes nothing).
+#[derive(Debug, Clone, Copy, Default)]
+struct Field {
+    word: usize,
+    shift: u32,
+    mask: u64,
+}
+
+impl Field {
+    fn read(self, words: &[u64]) -> u64 {
+        words
+            .get(self.word)
+            .map_or(0, |w| (w >> self.shift) & self.mask)
+    }
+}
+
+/// Writes fields in layout order, building each word in a register (one
+/// store per word rather than a read-modify-write per field).
+struct Writer<'w> {
+    words: &'w mut [u64],
+    word: usize,
+    acc: u64,
+}
+
+impl Writer<'_> {
+    fn write(&mut self, f: Field, value: u64) {
+        if f.mask == 0 {
+            return;
+        }
+        if f.word != self.word {
+            self.flush();
+            self.word = f.word;
+        }
+        self.acc |= (value & f.mask) << f.shift;
+    }
+
+    fn flush(&mut self) {
+        if let Some(w) = self.words.get_mut(self.word) {
+            *w = self.acc;
+        }
+        self.acc = 0;
+    }
+}
+
+/// The fields of one member.
+#[derive(Debug, Clone, Copy, Default)]
+struct Slots {
+    pos: Field,
+    /// Pending flag and wait mask (absent unless the member can pend).
+    pending: Field,
+    wait: Field,
+    timed_out: Field,
+}
+
+/// Where every field of a configuration lies.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Layout {
+    init_done: Field,
+    members: Vec<Slots>,
+    /// Words per encoded configuration.
+    pub(super) width: usize,
+}
+
+/// Places fields one after the other, opening a new word when the next
+/// one does not fit in the current word.
+struct Placer {
+    words: usize,
+    used: u32,
+}
+
+impl Placer {
+    fn place(&mut self, bits: u32) -> Field {
+        if bits == 0 {
+            return Field::default();
+        }
+        if self.words == 0 || self.used + bits > 64 {
+            self.words += 1;
+            self.used = 0;
+        }
+        let field = Field {
+            word: self.words - 1,
+            shift: self.used,
+            mask: if bits >= 64 {
+                u64::MAX
+            } else {
+                (1 << bits) - 1
+            },
+        };
+        self.used += bits;
+        field
+    }
+}
+
+impl Layout {
+    /// The layout of `members`' configurations.
+    pub(super) fn new(members: &[Member]) -> Self {
+        let mut p = Placer { words: 0, used: 0 };
+        let init_done = p.place(1);
+        let members = members
+            .iter()
+            .map(|m| {
+                let pos = p.place(m.pos_bits);
+                let (pending, wait) = if m.can_pend {
+                    (p.place(1), p.place(stop_bits(m)))
+                } else {
+                    (Field::default(), Field::default())
+                };
+                let timed_out = p.place(u32::from(m.watchdog));
+                Slots {
+                    pos,
+                    pending,
+                    wait,
+                    timed_out,
+                }
+            })
+            .collect();
+        Layout {
+            init_done,
+            members,
+            width: p.words.max(1),
+        }
+    }
+
+    /// Appends the `width` words of `cfg` to `out`.
+    pub(super) fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
+        let start = out.len();
+        out.resize(start + self.width, 0);
+        let mut w = Writer {
+            words: &mut out[start..],
+            word: 0,
+            acc: 0,
+        };
+        w.write(self.init_done, u64::from(cfg.init_done));
+        for ((slots, &pos), (&pending, &timed_out)) in self
+            .members
+            .iter()
+            .zip(&cfg.main)
+            .zip(cfg.pending.iter().zip(&cfg.timed_out))
+        {
+            w.write(slots.pos, u64::from(pos));
+            w.write(slots.pending, u64::from(pending.is_some()));
+            w.write(slots.wait, pending.unwrap_or(0));
+            w.write(slots.timed_out, u64::from(timed_out));
+        }
+        w.flush();
+    }
+
+    /// Decodes `words` into `cfg`, reusing its vectors.
+    pub(super) fn decode(&self, words: &[u64], cfg: &mut Config) {
+        cfg.init_done = self.init_done.read(words) == 1;
+        cfg.main.clear();
+        cfg.pending.clear();
+        cfg.timed_out.clear();
+        for slots in &self.members {
+            cfg.main
+                .push(PosId::try_from(slots.pos.read(words)).unwrap_or(IDLE));
+            let pending = slots.pending.read(words) == 1;
+            cfg.pending.push(pending.then(|| slots.wait.read(words)));
+            cfg.timed_out.push(slots.timed_out.read(words) == 1);
+        }
+    }
+}
