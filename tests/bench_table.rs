@@ -28,7 +28,12 @@ fn rows(table: &str) -> Vec<Row> {
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| component"))
         .map(|l| {
-            let cells: Vec<&str> = l.trim_matches('|').split(" | ").map(str::trim).collect();
+            let cells: Vec<&str> = l
+                .trim()
+                .trim_matches('|')
+                .split('|')
+                .map(str::trim)
+                .collect();
             assert_eq!(cells.len(), 6, "a row of six cells: {l}");
             Row {
                 component: cells[0].to_owned(),
