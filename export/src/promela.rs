@@ -14,25 +14,27 @@
 //!   the service, from 1), `oi_i` (when `READY`: the `on-inter` of the codel
 //!   it last ran, 0 for none), `pend_i` (a pending instance) and `wait_i_j`
 //!   (the pending `i` waits for the interrupted `j` to end); per thread
-//!   `busy_t`; per lockable structure `rd_k` (readers) and `wr_k` (writer);
-//!   `init_done`;
-//! - processes: `control` (a request that is accepted, steps 1–6, one
-//!   option per service), one `thread_NAME` per thread (begin and finish of
-//!   each codel, one option per outcome; `busy`, whether the thread runs a
-//!   codel, is its local variable) and `watchdog` (services with `max-time`:
-//!   interrupt at any time). A step is one `atomic` block: the guard, the
-//!   effect and, except after a codel begins (which can enable no start),
-//!   `settle()`, the urgent starts of step 7 and the deadlock assertion.
-//!   SPIN stores no state inside an atomic block, so every transition of the
-//!   semantics is one stored state (the model is lean: no bookkeeping
-//!   steps). `init` settles the initial state, then runs the processes;
+//!   `busy_t` (local to the process); per lockable structure `rd_k`
+//!   (readers) and `wr_k` (writer); `init_done`, `autos_due`;
+//! - one process, `component`, whose loop offers every step: a request
+//!   that is accepted (steps 1–6, one option per service), the begin and
+//!   finish of each codel (one option per outcome) and the watchdogs
+//!   (services with `max-time`: interrupt at any time). A step is an option
+//!   of an `atomic` block: the guard, the effect and, except after a codel
+//!   begins (which can start nothing), `settle()`: the urgent starts of
+//!   step 7 and the deadlock assertion. SPIN stores no state inside an
+//!   atomic block, so every transition of the semantics is one stored
+//!   state (no bookkeeping steps); `settle()` has one copy, so every marker
+//!   is one statement. Without an init service the autos are started in the
+//!   initial state; `init` marks them started and runs `component`;
 //! - verdicts: `assert` in `settle()` (a cycle of pending instances delayed by
 //!   each other, none with `max-time`: a deadlock), and per-codel and
 //!   per-service markers (`ran_K = 1`, `started_I = 1`, hidden, not part of
 //!   the state) whose statements SPIN lists as "unreached" when no execution
 //!   runs the codel or starts the service (`-o3` keeps each its own
 //!   statement; they are outside `d_step`s, whose statements SPIN does not
-//!   report). Every loop head is an `end` label: waiting for a request or a codel is legitimate, so SPIN's own
+//!   report). The loop head is an `end` label: waiting for a request or a
+//!   codel is legitimate, so SPIN's own
 //!   invalid-end-state check must never fire.
 
 use std::fmt::Write as _;
