@@ -14,21 +14,27 @@
 //!   the service, from 1), `oi_i` (when `READY`: the `on-inter` of the codel
 //!   it last ran, 0 for none), `pend_i` (a pending instance) and `wait_i_j`
 //!   (the pending `i` waits for the interrupted `j` to end); per thread
-//!   `busy_t`; per lockable structure `rd_k` (readers) and `wr_k` (writer);
-//!   `init_done`; `settle` (urgent starts are due);
-//! - processes: `control` (one atomic option per service: a request that is
-//!   accepted, steps 1–6), one `thread_NAME` per thread (begin and finish of
-//!   each codel, one option per outcome), `watchdog` (services with
-//!   `max-time`: interrupt at any time) and `engine` (the urgent starts of
-//!   step 7 after every transition, and the deadlock assertion). Every option
-//!   of the first three is guarded by `!settle`, so the engine's step follows
-//!   every transition at once;
-//! - verdicts: `assert` in `engine` (a cycle of pending instances delayed by
+//!   `busy_t` (local to the process); per lockable structure `rd_k`
+//!   (readers) and `wr_k` (writer); `init_done`, `autos_due`;
+//! - one process, `component`, whose loop offers every step: a request
+//!   that is accepted (steps 1–6, one option per service), the begin and
+//!   finish of each codel (one option per outcome) and the watchdogs
+//!   (services with `max-time`: interrupt at any time). A step is an option
+//!   of an `atomic` block: the guard, the effect and, except after a codel
+//!   begins (which can start nothing), `settle()`: the urgent starts of
+//!   step 7 and the deadlock assertion. SPIN stores no state inside an
+//!   atomic block, so every transition of the semantics is one stored
+//!   state (no bookkeeping steps); `settle()` has one copy, so every marker
+//!   is one statement. Without an init service the autos are started in the
+//!   initial state; `init` marks them started and runs `component`;
+//! - verdicts: `assert` in `settle()` (a cycle of pending instances delayed by
 //!   each other, none with `max-time`: a deadlock), and per-codel and
 //!   per-service markers (`ran_K = 1`, `started_I = 1`, hidden, not part of
 //!   the state) whose statements SPIN lists as "unreached" when no execution
-//!   runs the codel or starts the service. Every loop head is an `end`
-//!   label: waiting for a request or a codel is legitimate, so SPIN's own
+//!   runs the codel or starts the service (`-o3` keeps each its own
+//!   statement; they are outside `d_step`s, whose statements SPIN does not
+//!   report). The loop head is an `end` label: waiting for a request or a
+//!   codel is legitimate, so SPIN's own
 //!   invalid-end-state check must never fire.
 
 use std::fmt::Write as _;
@@ -52,10 +58,10 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     header(&mut out, input);
     declarations(&mut out, c);
     inlines(&mut out, c);
-    control(&mut out, c);
-    threads(&mut out, c);
-    watchdog(&mut out, c);
-    engine(&mut out, c);
+    settle(&mut out, c);
+    let (quiet, steps) = all_steps(c);
+    process(&mut out, c, &quiet, &steps);
+    init(&mut out, c);
     Ok(Exported::single(out))
 }
 
@@ -114,8 +120,10 @@ fn header(out: &mut String, input: &ExportInput<'_>) {
         " *\n\
          \x20* LANGUAGE.md section 3 without time (docs/semantics.md 2.3-2.4): any\n\
          \x20* interleaving of requests, codel begins and ends, and watchdog interrupts.\n\
-         \x20* Run:   spin -a -o3 FILE.pml && gcc -O1 -DSAFETY -DNOREDUCE -o pan pan.c\n\
+         \x20* Run:   spin -a -o3 FILE.pml && gcc -O2 -DSAFETY -o pan pan.c\n\
          \x20*        ./pan -c0 -m1000000\n\
+         \x20* Each step is one atomic block (the guard, the effect, then settle(): the\n\
+         \x20* urgent starts and the deadlock check): one stored state per transition.\n\
          \x20* Read:  an assertion violation is a deadlock (pending instances delayed by\n\
          \x20*        each other, none with max-time); an unreached `started_I = 1` (every\n\
          \x20*        copy) is a dead service I; an unreached `ran_K = 1` (every copy) is a\n\
@@ -179,12 +187,8 @@ fn declarations(out: &mut String, c: &Component) {
         "bit init_done = {};  /* the init service has completed successfully */",
         u8::from(init.is_none())
     );
-    let _ = writeln!(
-        out,
-        "bit autos_due = {};  /* initialisation completed: the auto services start now */",
-        u8::from(init.is_none())
-    );
-    out.push_str("bit settle = 1;     /* urgent starts are due (engine runs next) */\n\n");
+    out.push_str("bit autos_due;  /* initialisation completed: the auto services start now */\n");
+    out.push('\n');
     for (id, s) in c.services.iter() {
         let i = id.index();
         let codels: Vec<String> = s
@@ -215,7 +219,9 @@ fn declarations(out: &mut String, c: &Component) {
         );
         let _ = writeln!(
             out,
-            "byte mode_{i}; byte at_{i}; byte oi_{i}; bit pend_{i};"
+            "byte mode_{i}{}; byte at_{i}{}; byte oi_{i}; bit pend_{i};",
+            initial(c, id).map_or(String::new(), |_| " = READY".to_owned()),
+            initial(c, id).map_or(String::new(), |l| format!(" = {l}"))
         );
         for t in targets(c, id) {
             let _ = writeln!(
@@ -231,16 +237,17 @@ fn declarations(out: &mut String, c: &Component) {
     markers(out, c);
 }
 
+/// Without an init service, the auto services start at once: an auto
+/// service with a start codel is `READY` at it in the initial state (the
+/// position of the codel); one without completes at once.
+fn initial(c: &Component, id: ServiceId) -> Option<usize> {
+    let s = &c.services[id];
+    let auto = c.init_service().is_none() && s.kind == ServiceKind::Auto;
+    s.start.filter(|_| auto).map(|k| local(c, k))
+}
+
 fn resources(out: &mut String, c: &Component) {
     out.push('\n');
-    for (id, t) in c.threads.iter() {
-        let _ = writeln!(
-            out,
-            "bit busy_{};  /* thread `{}` runs a codel */",
-            id.index(),
-            t.name.name
-        );
-    }
     for (id, s) in c.structures.iter() {
         let k = id.index();
         let _ = writeln!(
@@ -327,10 +334,13 @@ fn start_autos(c: &Component) -> String {
     for (a, s) in c.services.iter() {
         if s.kind == ServiceKind::Auto {
             let i = a.index();
-            let _ = write!(body, "; started_{i} = 1; {}", start(c, a));
+            if s.start.is_none() {
+                let _ = write!(body, "; started_{i} = 1");
+            }
+            let _ = write!(body, "; {}", start(c, a));
         }
     }
-    format!("if :: autos_due -> {body} :: else -> skip fi;\n       ")
+    format!("if :: autos_due -> {body} :: else -> skip fi;\n  ")
 }
 
 /// The lock condition of a codel: every structure it writes is free, every
@@ -381,36 +391,44 @@ fn release(c: &Component, k: CodelId) -> String {
         .collect()
 }
 
-/// Writes a process whose body loops over `options` (each an atomic step).
-fn process(out: &mut String, name: &str, comment: &str, options: &[String]) {
-    let _ = writeln!(
-        out,
-        "/* {comment} */\nactive proctype {name}() {{\nend:\n  do"
+/// Writes the one process, `component`: its loop offers `quiet` steps
+/// (nothing can start after them: codel begins) and `steps` (followed by
+/// `settle()`), each one `atomic` block, so that SPIN stores one state per
+/// transition; `settle()` has one copy, so that each marker of its starts
+/// is one statement.
+fn process(out: &mut String, c: &Component, quiet: &[String], steps: &[String]) {
+    out.push_str(
+        "/* every step of the component: requests, codels, watchdogs */\nproctype component() {\n",
     );
-    if options.is_empty() {
+    for (id, t) in c.threads.iter() {
+        let _ = writeln!(
+            out,
+            "  bit busy_{};  /* thread `{}` runs a codel */",
+            id.index(),
+            t.name.name
+        );
+    }
+    out.push_str("end:\n  do\n");
+    if quiet.is_empty() && steps.is_empty() {
         out.push_str("  :: false\n");
     }
-    for o in options {
-        let _ = writeln!(out, "  :: {o}");
+    for (options, tail) in [(quiet, ""), (steps, ";\n       settle()")] {
+        if options.is_empty() {
+            continue;
+        }
+        out.push_str("  :: atomic {\n       if\n");
+        for o in options {
+            let _ = writeln!(out, "       :: {o}");
+        }
+        let _ = writeln!(out, "       fi{tail} }}");
     }
     out.push_str("  od\n}\n\n");
-}
-
-/// One option per service: its request is accepted (steps 1–6).
-fn control(out: &mut String, c: &Component) {
-    let options: Vec<String> = c.services.ids().map(|s| request(c, s)).collect();
-    process(
-        out,
-        "control",
-        "the control thread: a request arrives and is accepted (steps 1-6)",
-        &options,
-    );
 }
 
 fn request(c: &Component, id: ServiceId) -> String {
     let s = &c.services[id];
     let i = id.index();
-    let mut guard = vec!["!settle".to_owned()];
+    let mut guard = Vec::new();
     if c.init_service().is_some_and(|x| x != id) {
         guard.push("init_done".to_owned());
     }
@@ -443,57 +461,70 @@ fn request(c: &Component, id: ServiceId) -> String {
         let t = t.index();
         let _ = write!(body, "; wait_{i}_{t} = (mode_{t} != IDLE)");
     }
+    if guard.is_empty() {
+        guard.push("true".to_owned());
+    }
     format!(
-        "atomic {{ {} ->  /* request `{}` */\n       {body}; settle = 1 }}",
+        "{} ->  /* request `{}` */\n            {body}",
         guard.join(" && "),
         s.name.name
     )
 }
 
-/// One process per thread: begin and finish of its services' codels.
-fn threads(out: &mut String, c: &Component) {
-    for (tid, t) in c.threads.iter() {
-        let mut options = Vec::new();
-        for (sid, s) in c.services.iter() {
-            if s.start.is_none() || s.thread.map(|r| r.id) != Some(tid) {
-                continue;
-            }
-            for &k in &s.codels {
-                if c.codels[k].kind != CodelKind::Control {
-                    options.extend(codel_steps(c, sid, k, tid.index()));
-                }
+/// The steps of the component: `quiet` (codel begins, after which nothing
+/// can start) and the others (requests, codel finishes, watchdogs).
+fn all_steps(c: &Component) -> (Vec<String>, Vec<String>) {
+    let mut quiet = Vec::new();
+    let mut steps: Vec<String> = c.services.ids().map(|s| request(c, s)).collect();
+    for (sid, s) in c.services.iter() {
+        let Some(t) = s.thread.map(|r| r.id.index()).filter(|_| s.start.is_some()) else {
+            continue;
+        };
+        for &k in &s.codels {
+            if c.codels[k].kind != CodelKind::Control {
+                quiet.extend(begins(c, sid, k, t));
+                steps.extend(finishes(c, sid, k, t));
             }
         }
-        process(
-            out,
-            &format!("thread_{}", t.name.name),
-            &format!("thread `{}`: begins and finishes codels", t.name.name),
-            &options,
-        );
     }
+    steps.extend(watchdog(c));
+    (quiet, steps)
 }
 
-/// The begin and finish steps of codel `k` of service `sid` on thread `t`.
-fn codel_steps(c: &Component, sid: ServiceId, k: CodelId, t: usize) -> Vec<String> {
+/// The begin steps of codel `k` of service `sid` (from `READY` and from
+/// `STOPREADY`): the thread is free and the codel's locks are.
+fn begins(c: &Component, sid: ServiceId, k: CodelId, t: usize) -> Vec<String> {
+    let i = sid.index();
+    let l = local(c, k);
+    let name = c.codel_label(k);
+    let mut lock = vec![format!("!busy_{t}")];
+    lock.extend(can_lock(c, k));
+    let lock = lock.join(" && ");
+    let acq = acquire(c, k);
+    [
+        ("READY", "RUN", "begins"),
+        ("STOPREADY", "STOPRUN", "begins (stopping)"),
+    ]
+    .into_iter()
+    .map(|(from, to, what)| {
+        format!(
+            "{lock} && mode_{i} == {from} && at_{i} == {l} ->  /* `{name}` {what} */\n            \
+             ran_{} = 1; mode_{i} = {to}; oi_{i} = 0; busy_{t} = 1{acq}",
+            k.index()
+        )
+    })
+    .collect()
+}
+
+/// The finish steps of codel `k` of service `sid`: one per outcome, from
+/// `RUN` and from `STOPRUN`, and the end of an interrupted run.
+fn finishes(c: &Component, sid: ServiceId, k: CodelId, t: usize) -> Vec<String> {
     let i = sid.index();
     let l = local(c, k);
     let codel = &c.codels[k];
     let name = c.codel_label(k);
-    let mut lock = vec![format!("!settle && !busy_{t}")];
-    lock.extend(can_lock(c, k));
-    let lock = lock.join(" && ");
-    let (acq, rel) = (acquire(c, k), release(c, k));
+    let rel = format!("{}busy_{t} = 0; ", release(c, k));
     let mut steps = Vec::new();
-    for (from, to, what) in [
-        ("READY", "RUN", "begins"),
-        ("STOPREADY", "STOPRUN", "begins (stopping)"),
-    ] {
-        steps.push(format!(
-            "atomic {{ {lock} && mode_{i} == {from} && at_{i} == {l} ->  /* `{name}` {what} */\n       \
-             ran_{} = 1; mode_{i} = {to}; oi_{i} = 0; busy_{t} = 1{acq} }}",
-            k.index()
-        ));
-    }
     let oi = codel.on_inter.map_or(0, |r| local(c, r.id));
     for o in codel.outcomes() {
         let (go, stop_go) = match o {
@@ -508,46 +539,25 @@ fn codel_steps(c: &Component, sid: ServiceId, k: CodelId, t: usize) -> Vec<Strin
             Outcome::Report(_) => (format!("end_{i}()"), format!("end_{i}()")),
         };
         let label = outcome_name(c, sid, o);
-        steps.push(finish(
-            i,
-            l,
-            t,
-            "RUN",
-            &rel,
-            &go,
-            &format!("`{name}` ends with {label}"),
-        ));
-        steps.push(finish(
-            i,
-            l,
-            t,
-            "STOPRUN",
-            &rel,
-            &stop_go,
-            &format!("`{name}` (stopping) ends with {label}"),
-        ));
+        let what = format!("`{name}` ends with {label}");
+        steps.push(finish(i, l, "RUN", &rel, &go, &what));
+        let what = format!("`{name}` (stopping) ends with {label}");
+        steps.push(finish(i, l, "STOPRUN", &rel, &stop_go, &what));
     }
     let interrupted = if oi == 0 {
         format!("end_{i}()")
     } else {
         format!("mode_{i} = STOPREADY; at_{i} = {oi}")
     };
-    steps.push(finish(
-        i,
-        l,
-        t,
-        "RUNINT",
-        &rel,
-        &interrupted,
-        &format!("`{name}` ends, interrupted"),
-    ));
+    let what = format!("`{name}` ends, interrupted");
+    steps.push(finish(i, l, "RUNINT", &rel, &interrupted, &what));
     steps
 }
 
-fn finish(i: usize, l: usize, t: usize, mode: &str, rel: &str, go: &str, what: &str) -> String {
+fn finish(i: usize, l: usize, mode: &str, rel: &str, go: &str, what: &str) -> String {
     format!(
-        "atomic {{ !settle && mode_{i} == {mode} && at_{i} == {l} ->  /* {what} */\n       \
-         {rel}busy_{t} = 0; {go}; settle = 1 }}"
+        "mode_{i} == {mode} && at_{i} == {l} ->  /* {what} */\n            \
+         {rel}{go}"
     )
 }
 
@@ -564,31 +574,23 @@ fn outcome_name(c: &Component, sid: ServiceId, o: Outcome) -> String {
 
 /// Services with `max-time`: the watchdog may interrupt their pending or
 /// main instance at any time (untimed reading of the deadline).
-fn watchdog(out: &mut String, c: &Component) {
-    let mut options = Vec::new();
+fn watchdog(c: &Component) -> Vec<String> {
+    let mut steps = Vec::new();
     for (id, s) in c.services.iter() {
         if s.max_time.is_none() {
             continue;
         }
         let i = id.index();
         let name = &s.name.name;
-        options.push(format!(
-            "atomic {{ !settle && pend_{i} ->  /* the pending `{name}` times out */\n       \
-             drop_{i}(); settle = 1 }}"
+        steps.push(format!(
+            "pend_{i} ->  /* the pending `{name}` times out */\n            drop_{i}()"
         ));
-        options.push(format!(
-            "atomic {{ !settle && (mode_{i} == READY || mode_{i} == RUN) ->  /* `{name}` times out */\n       \
-             interrupt_{i}(); settle = 1 }}"
+        steps.push(format!(
+            "mode_{i} == READY || mode_{i} == RUN ->  /* `{name}` times out */\n            \
+             interrupt_{i}()"
         ));
     }
-    if !options.is_empty() {
-        process(
-            out,
-            "watchdog",
-            "the max-time watchdogs, untimed: they may fire at any time",
-            &options,
-        );
-    }
+    steps
 }
 
 /// Whether pending `s` may start now (step 7).
@@ -615,18 +617,17 @@ fn start(c: &Component, s: ServiceId) -> String {
     }
 }
 
-/// The urgent starts after every transition, then the deadlock assertion.
-fn engine(out: &mut String, c: &Component) {
-    let mut body = format!(
-        "atomic {{ settle ->\n       {}do\n       :: ",
-        start_autos(c)
-    );
+/// `settle()`: the urgent starts after every transition (step 7), then the
+/// deadlock assertion. Called at the end of every atomic step but codel
+/// begins, and by `init` on the initial state.
+fn settle(out: &mut String, c: &Component) {
+    let mut body = format!("inline settle() {{\n  {}do\n  :: ", start_autos(c));
     let mut any = Vec::new();
     for s in c.services.ids() {
         let cond = can_start(c, s);
         let _ = write!(
             body,
-            "if :: {cond} -> {} :: else -> skip fi;\n          ",
+            "if :: {cond} -> {} :: else -> skip fi;\n     ",
             start(c, s)
         );
         any.push(cond);
@@ -636,16 +637,26 @@ fn engine(out: &mut String, c: &Component) {
     }
     let _ = write!(
         body,
-        "if :: {} -> skip :: else -> break fi\n       od;\n       skip;\n{}       settle = 0 }}",
+        "if :: {} -> skip :: else -> break fi\n  od;\n  skip;\n{}}}\n\n",
         any.join(" || "),
         deadlock_check(c)
     );
-    process(
-        out,
-        "engine",
-        "step 7: every pending instance that can start starts, then the deadlock check",
-        &[body],
-    );
+    out.push_str(&body);
+}
+
+/// `init`: marks the auto services started in the initial state (without
+/// an init service they start at once, [`initial`]), then runs the
+/// component, in one atomic step.
+fn init(out: &mut String, c: &Component) {
+    let mut body = String::new();
+    if c.init_service().is_none() {
+        for (a, s) in c.services.iter() {
+            if s.kind == ServiceKind::Auto {
+                let _ = write!(body, "started_{} = 1; ", a.index());
+            }
+        }
+    }
+    let _ = writeln!(out, "init {{\n  atomic {{ {body}run component() }}\n}}");
 }
 
 /// Removes, until nothing changes, every candidate (pending, no `max-time`)
