@@ -121,15 +121,9 @@ pub(crate) struct Found {
 impl Found {
     /// Notes that `codel` runs or is reached.
     fn reach(&mut self, codel: CodelId) {
-        let k = codel.0 as usize;
-        if self.seen_codels.get(k) == Some(&true) {
-            return;
+        if first_time(&mut self.seen_codels, codel.0 as usize) {
+            self.reached.insert(codel);
         }
-        if self.seen_codels.len() <= k {
-            self.seen_codels.resize(k + 1, false);
-        }
-        self.seen_codels[k] = true;
-        self.reached.insert(codel);
     }
 
     fn has_reached(&self, codel: CodelId) -> bool {
@@ -142,15 +136,18 @@ impl Found {
 
     /// Notes that member `i`, service `s`, starts.
     fn start(&mut self, i: usize, s: ServiceId) {
-        if self.seen_members.get(i) == Some(&true) {
-            return;
+        if first_time(&mut self.seen_members, i) {
+            self.started.insert(s);
         }
-        if self.seen_members.len() <= i {
-            self.seen_members.resize(i + 1, false);
-        }
-        self.seen_members[i] = true;
-        self.started.insert(s);
     }
+}
+
+/// Marks `k` in `seen` (grown as needed); whether it was not marked yet.
+fn first_time(seen: &mut Vec<bool>, k: usize) -> bool {
+    if seen.len() <= k {
+        seen.resize(k + 1, false);
+    }
+    !std::mem::replace(&mut seen[k], true)
 }
 
 /// How to turn the witnesses of one exploration into traces: the

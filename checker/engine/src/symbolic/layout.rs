@@ -179,19 +179,9 @@ impl Layout {
             timed_out: Vec::with_capacity(n),
         };
         for s in &self.slots {
-            let pos = s
-                .pos
-                .iter()
-                .enumerate()
-                .filter(|&(_, &v)| val.value(v))
-                .fold(0u16, |acc, (k, _)| acc | (1 << k));
+            let pos = u16::try_from(bits(&s.pos, val)).unwrap_or(u16::MAX);
             cfg.main.push(pos);
-            let mask = s
-                .mask
-                .iter()
-                .enumerate()
-                .filter(|&(_, &v)| val.value(v))
-                .fold(0u64, |acc, (k, _)| acc | (1 << k));
+            let mask = bits(&s.mask, val);
             let pending = s.pend.is_some_and(|v| val.value(v));
             cfg.pending.push(pending.then_some(mask));
             cfg.timed_out.push(s.tout.is_some_and(|v| val.value(v)));
@@ -234,4 +224,12 @@ fn facts(sys: &System<'_>, i: usize) -> Facts {
         thread: m.thread,
         running,
     }
+}
+
+/// The number whose bit `k` is the value of `vars[k]` in `val`.
+fn bits(vars: &[BddVariable], val: &BddValuation) -> u64 {
+    vars.iter()
+        .enumerate()
+        .filter(|&(_, &v)| val.value(v))
+        .fold(0, |acc, (k, _)| acc | (1 << k))
 }
