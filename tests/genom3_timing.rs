@@ -127,6 +127,34 @@ fn point_7_control_codels_hold_their_locks() {
 }
 
 #[test]
+fn point_9_the_resource_fifo_delays_a_codel_that_conflicts_with_nothing() {
+    let r = check("f9_fifo");
+    assert_eq!(overrunning(&r), ["c"]);
+    assert!(naive_overrunning(&r).is_empty());
+    assert_clean_traces(&r);
+    // `c` waits behind `b`'s ticket, not for a lock of its own.
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun)
+        .unwrap();
+    let t = d.trace.as_ref().unwrap();
+    let waits: Vec<&str> = t
+        .steps
+        .iter()
+        .filter(|s| s.event == Event::LockWait)
+        .filter_map(|s| s.thread.as_deref())
+        .collect();
+    assert_eq!(waits, ["b", "c"], "{t:#?}");
+    let c_wait = t
+        .steps
+        .iter()
+        .find(|s| s.event == Event::LockWait && s.thread.as_deref() == Some("c"))
+        .unwrap();
+    assert!(c_wait.text.contains("older tickets"), "{}", c_wait.text);
+}
+
+#[test]
 fn point_9_locks_at_genom3_granularity() {
     let readers = check("f9_granularity");
     assert!(!overrunning(&readers).is_empty());

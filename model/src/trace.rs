@@ -23,6 +23,10 @@ pub enum Event {
     CodelStart,
     /// A codel finishes with an outcome.
     CodelEnd,
+    /// A thread takes a ticket in GenoM3's resource queue for its next
+    /// codel, which cannot begin yet (a lock it needs is held, or older
+    /// tickets wait).
+    LockWait,
     /// A service instance is interrupted.
     Interrupt,
     /// The max-time watchdog fires.
@@ -49,6 +53,7 @@ impl Event {
             Event::Start => "start",
             Event::CodelStart => "codel-start",
             Event::CodelEnd => "codel-end",
+            Event::LockWait => "lock-wait",
             Event::Interrupt => "interrupt",
             Event::Watchdog => "watchdog",
             Event::WakeUp => "wake-up",

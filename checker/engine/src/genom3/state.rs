@@ -70,6 +70,9 @@ pub mod mark {
     /// Interrupted while its codel runs or is due in this sweep: it goes
     /// to `stop` (or ends) after that codel.
     pub const FLAGGED: u8 = 8;
+    /// Its task holds a ticket in GenoM3's resource FIFO for this codel
+    /// (8.3): the task is committed to it and waits for its turn.
+    pub const TICKET: u8 = 16;
 }
 
 /// One instance: its status, the state whose codel runs next, and its

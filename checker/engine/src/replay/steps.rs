@@ -231,6 +231,7 @@ impl<'c> Replayer<'c> {
             Event::Watchdog => self.watchdog(step),
             Event::Reply => self.reply(step),
             Event::WakeUp | Event::Delay | Event::Violation => self.settled(),
+            Event::LockWait => Err("`lock-wait` is a GenoM3 step (its resource queue)".into()),
         }
     }
 

@@ -1,6 +1,11 @@
 //! The timed GenoM3 model explored group by group. Timing couples two tasks
-//! only when a codel of one waits for a codel of the other (GenoM3's
-//! exclusion lists); services couple as in the untimed parts
+//! when a codel of one waits for a codel of the other (GenoM3's exclusion
+//! lists), and GenoM3's resource FIFO (8.3) couples every task that takes
+//! tickets (a task with a codel that is not `async`) with every thread
+//! that may wait for a lock: its ticket may come behind a waiting one
+//! (head-of-line blocking). So as soon as some codel may wait for a lock,
+//! the tasks that take tickets form one group. Services couple as in the
+//! untimed parts
 //! (`after`/`before`, `interrupts`); an activity is coupled to its task. A
 //! group is a connected component of those links over tasks and services.
 //!
@@ -69,6 +74,14 @@ pub fn groups(m: &Machine<'_>, locks: &Locks) -> Vec<Group> {
             }
         }
     }
+    // The FIFO: some codel may wait (of a task, or the control thread's for
+    // a task's codel); every task taking tickets may queue behind it.
+    if (0..locks.len()).any(|k| !locks.waits_for(k).is_empty()) {
+        let queued: Vec<usize> = (0..nt).filter(|&t| takes_tickets(locks, t)).collect();
+        for w in queued.windows(2) {
+            link(ns + w[0], ns + w[1]);
+        }
+    }
     let mut out: Vec<Group> = Vec::new();
     let mut seen = Vec::new();
     for t in 0..nt {
@@ -115,6 +128,11 @@ fn contends(
             t < tasks.len() && tasks[t] && (locks.excludes(k, j) || locks.excludes(j, k))
         })
     })
+}
+
+/// Whether task `t` has a codel that takes a ticket (one not `async`).
+fn takes_tickets(locks: &Locks, t: usize) -> bool {
+    (0..locks.len()).any(|k| locks.key_task[k] == t && !locks.is_async(k))
 }
 
 fn find(root: &mut [usize], mut x: usize) -> usize {

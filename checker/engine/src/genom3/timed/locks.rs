@@ -142,6 +142,12 @@ impl Locks {
         self.upper[k]
     }
 
+    /// Whether the codel of key `k` is `async`: it takes no lock and no
+    /// ticket in the resource FIFO.
+    pub fn is_async(&self, k: usize) -> bool {
+        self.upper[k].is_none()
+    }
+
     /// Upper bound of the codel's duration (`None`: unbounded).
     pub fn wcet(&self, owner: Owner, state: u8) -> Option<i64> {
         self.upper[self.key(owner, state)]

@@ -16,8 +16,14 @@
 //! - a codel takes between 0 and its WCET (0 without one); an `async` codel
 //!   takes at least its WCET and has no upper bound; a task begins a codel
 //!   as soon as it may (urgent), waiting only for GenoM3's locks: the codel
-//!   waits while another task runs a codel of its exclusion list
+//!   waits while another thread runs a codel of its exclusion list
 //!   ([`locks`]);
+//! - GenoM3's resource FIFO (8.3): a thread that cannot begin its codel at
+//!   once (a lock is held, or older tickets wait) takes a ticket for that
+//!   codel ([`TG3Action::Ticket`], urgent; threads due at one instant take
+//!   theirs in every order) and begins it only at the head of the queue,
+//!   its locks free; the queue's head blocks every later ticket, conflicting
+//!   or not (head-of-line blocking);
 //! - the control thread (requests, functions, attributes, `kill`,
 //!   `abort_activity`) acts at any time and takes no time; an interrupted
 //!   instance whose codel runs or is due in the sweep goes to `stop` after
@@ -79,13 +85,19 @@ pub enum TG3Action {
     /// codels (`validate`, a function's codels): they run in turn.
     CtlBegin(G3Action),
     /// The control thread begins its next control codel (its locks are
-    /// free).
+    /// free, and its ticket is the queue's head or the queue is empty).
     CtlPhase,
+    /// The control thread takes a ticket for its next control codel: it
+    /// cannot begin it now.
+    CtlTicket,
     /// The running control codel ends: success (the next one, or the
     /// request's effect) or an exception (rejected, nothing changes).
     CtlEnd(bool),
     /// An instance (packed) begins the codel of its state.
     Begin(Who, u16),
+    /// The task of an instance (packed) takes a ticket for the instance's
+    /// due codel in GenoM3's resource FIFO: it cannot begin it now.
+    Ticket(Who, u16),
     /// The running instance (packed) ends its codel with outcome `o`.
     End(Who, u16, u8),
 }
@@ -104,9 +116,10 @@ pub struct TG3State {
     pub violation: Option<u8>,
     /// The request the control thread handles, if it runs control codels.
     pub ctl: Option<Ctl>,
-    /// Per task (bit): it has waited for a lock (time passed while it was
-    /// idle with a due codel); its ticket comes before later ones (8.3).
-    pub waiting: u64,
+    /// GenoM3's resource FIFO (8.3): the threads holding a ticket, oldest
+    /// first (task indices, [`CTL`] for the control thread). A task's
+    /// ticket is for its instance marked [`mark::TICKET`].
+    pub queue: Vec<u8>,
     /// Per task (bit): a tick found its work unfinished and, with
     /// [`TimedEngine::coalesce`], was coalesced: the task wakes again as
     /// soon as that work ends (GenoM3 1.2).
@@ -124,9 +137,6 @@ pub struct Ctl {
     pub phase: u8,
     /// Whether that codel runs (else it waits for its locks).
     pub running: bool,
-    /// Time passed while that codel could not begin: its ticket in GenoM3's
-    /// FIFO comes before those of task codels that have not waited (8.3).
-    pub waited: bool,
 }
 
 impl Ctl {
@@ -136,10 +146,7 @@ impl Ctl {
             G3Action::Call(k) => (2, k),
             _ => (3, 0),
         };
-        kind << 40
-            | u64::from(x) << 16
-            | u64::from(self.waited) << 9
-            | u64::from(self.phase) << 1
+        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1
             | u64::from(self.running)
     }
 
@@ -154,7 +161,6 @@ impl Ctl {
             job,
             phase: ((v >> 1) & 0xff) as u8,
             running: v & 1 == 1,
-            waited: (v >> 9) & 1 == 1,
         })
     }
 }
@@ -218,6 +224,12 @@ pub struct TimedEngine<'a> {
 
 /// Most tasks a timed model handles (one bit each in a word).
 pub const MAX_TASKS: usize = 32;
+
+/// The control thread in [`TG3State::queue`].
+pub const CTL: u8 = 62;
+
+/// Queue entries per encoded word (6 bits each, 0 for none).
+const QUEUE_PER_WORD: usize = 10;
 
 impl<'a> TimedEngine<'a> {
     /// The timed model of the whole of `m`; `None` with more than
@@ -318,6 +330,11 @@ impl<'a> TimedEngine<'a> {
         })
     }
 
+    /// Words of the encoded resource queue (one entry per thread).
+    fn queue_words(&self) -> usize {
+        (self.e.m.tasks.len() + 1).div_ceil(QUEUE_PER_WORD)
+    }
+
     /// Number of clocks.
     pub fn clock_count(&self) -> usize {
         self.bounds.len()
@@ -337,7 +354,7 @@ impl<'a> TimedEngine<'a> {
             ticked: 0,
             violation: None,
             ctl: None,
-            waiting: 0,
+            queue: Vec::new(),
             late: 0,
             zone: Dbm::zero(self.clock_count() + extra),
         };
@@ -384,43 +401,88 @@ impl<'a> TimedEngine<'a> {
                 .any(|(_, i)| i.has(mark::BUSY | mark::DUE))
     }
 
-    /// Whether task `t` (idle) may begin the codel of `i` now: its locks
-    /// are free.
-    pub fn may_begin(&self, st: &TG3State, t: usize, who: Who, i: Inst) -> bool {
-        let k = self.locks.key(who.owner(), i.state);
-        self.holders(st, Some(t))
+    /// Whether codel `k` of thread `t` (a task, `None` for the control
+    /// thread) has its locks free: no other thread runs a codel it waits
+    /// for.
+    pub fn locks_free(&self, st: &TG3State, t: Option<usize>, k: usize) -> bool {
+        self.holders(st, t)
             .iter()
             .all(|&(j, _, _)| !self.locks.excludes(k, j))
-            && !self.queued_behind(st, t, k)
-            && !self.ctl_queued_before(st, t, k)
     }
 
-    /// The control thread has waited for a lock with a control codel that
-    /// conflicts with codel `k` of task `t`, which has not waited: its
-    /// ticket is older (GenoM3's FIFO).
-    fn ctl_queued_before(&self, st: &TG3State, t: usize, k: usize) -> bool {
-        st.waiting >> t & 1 == 0
-            && st.ctl.is_some_and(|c| c.waited && !c.running)
-            && self
-                .ctl_codel(st)
-                .is_some_and(|j| self.locks.excludes(j, k) || self.locks.excludes(k, j))
-    }
-
-    /// Another task has waited for a lock with a due codel that conflicts
-    /// with codel `k` of task `t`, which has not waited: its ticket is older
-    /// (GenoM3's FIFO). Among tasks that both waited, any order.
-    fn queued_behind(&self, st: &TG3State, t: usize, k: usize) -> bool {
-        if st.waiting >> t & 1 == 1 {
-            return false;
+    /// How thread `th` (in [`TG3State::queue`]'s numbering) may go on with
+    /// a codel whose locks are `free` (8.3): `Some(true)` it begins it now
+    /// (its ticket is the head, or it holds none and the queue is empty),
+    /// `Some(false)` it takes a ticket (it holds none and cannot begin),
+    /// `None` it waits (its ticket is behind, or its locks are held).
+    fn turn(st: &TG3State, th: u8, free: bool) -> Option<bool> {
+        let queued = st.queue.contains(&th);
+        let head = st.queue.first() == Some(&th);
+        if free && (head || st.queue.is_empty()) {
+            Some(true)
+        } else if !queued {
+            Some(false)
+        } else {
+            None
         }
-        (0..self.e.m.tasks.len())
-            .filter(|&u| u != t && st.waiting >> u & 1 == 1)
-            .any(|u| {
-                self.instances(&st.g, u).iter().any(|&(who, i)| {
-                    let j = self.locks.key(who.owner(), i.state);
-                    i.has(mark::DUE) && (self.locks.excludes(j, k) || self.locks.excludes(k, j))
-                })
-            })
+    }
+
+    /// The codels some thread may begin now, and the tickets some thread
+    /// takes now (time may not pass then).
+    pub fn begins(&self, st: &TG3State, out: &mut Vec<TG3Action>) {
+        for t in 0..self.e.m.tasks.len() {
+            if !self.spawned(&st.g, t) || self.running(&st.g, t).is_some() {
+                continue;
+            }
+            let queued = st.queue.contains(&(t as u8));
+            for (who, i) in self.instances(&st.g, t) {
+                if !i.has(mark::DUE) || (queued && !i.has(mark::TICKET)) {
+                    continue;
+                }
+                let k = self.locks.key(who.owner(), i.state);
+                if self.locks.is_async(k) {
+                    // No lock, no ticket (7.2).
+                    if !queued {
+                        out.push(TG3Action::Begin(who, i.pack()));
+                    }
+                    continue;
+                }
+                match Self::turn(st, t as u8, self.locks_free(st, Some(t), k)) {
+                    Some(true) => out.push(TG3Action::Begin(who, i.pack())),
+                    Some(false) => out.push(TG3Action::Ticket(who, i.pack())),
+                    None => {}
+                }
+            }
+        }
+        let (Some(c), Some(k)) = (st.ctl, self.ctl_codel(st)) else {
+            return;
+        };
+        if !c.running {
+            match Self::turn(st, CTL, self.locks_free(st, None, k)) {
+                Some(true) => out.push(TG3Action::CtlPhase),
+                Some(false) => out.push(TG3Action::CtlTicket),
+                None => {}
+            }
+        }
+    }
+
+    /// The codels of the threads queued up to and including `th`, oldest
+    /// first: those it waits behind, and its own.
+    pub fn queued_codels(&self, st: &TG3State, th: u8) -> Vec<(Option<usize>, usize)> {
+        let mut out = Vec::new();
+        for &u in &st.queue {
+            if u == CTL {
+                out.extend(self.ctl_codel(st).map(|k| (None, k)));
+            } else {
+                let t = usize::from(u);
+                let ticket = self.instances(&st.g, t).into_iter().find(|(_, i)| i.has(mark::TICKET));
+                out.extend(ticket.map(|(w, i)| (Some(t), self.locks.key(w.owner(), i.state))));
+            }
+            if u == th {
+                break;
+            }
+        }
+        out
     }
 
     /// The running codels (key, clock, WCET) that a codel of task `except`
@@ -477,53 +539,8 @@ impl<'a> TimedEngine<'a> {
         self.jobs.get(&sid)?.get(usize::from(ctl.phase)).copied()
     }
 
-    /// Whether the control thread may begin its next control codel now.
-    pub fn ctl_may_begin(&self, st: &TG3State) -> bool {
-        let (Some(c), Some(k)) = (st.ctl, self.ctl_codel(st)) else {
-            return false;
-        };
-        !c.running
-            && self
-                .holders(st, None)
-                .iter()
-                .all(|&(j, _, _)| !self.locks.excludes(k, j))
-            && !self.task_waits_for(st, k)
-    }
-
-    /// Some idle task has a due codel that conflicts with control codel
-    /// `k`: it waits for a lock, so its ticket in GenoM3's FIFO comes
-    /// before the control thread's (8.3).
-    fn task_waits_for(&self, st: &TG3State, k: usize) -> bool {
-        let ctl_waited = st.ctl.is_some_and(|c| c.waited);
-        (0..self.e.m.tasks.len()).any(|t| {
-            (!ctl_waited || st.waiting >> t & 1 == 1)
-                && self.spawned(&st.g, t)
-                && self.running(&st.g, t).is_none()
-                && self.instances(&st.g, t).iter().any(|&(who, i)| {
-                    let j = self.locks.key(who.owner(), i.state);
-                    i.has(mark::DUE) && (self.locks.excludes(j, k) || self.locks.excludes(k, j))
-                })
-        })
-    }
-
-    /// The codels some thread may begin now (time may not pass then).
-    pub fn begins(&self, st: &TG3State, out: &mut Vec<TG3Action>) {
-        for t in 0..self.e.m.tasks.len() {
-            if !self.spawned(&st.g, t) || self.running(&st.g, t).is_some() {
-                continue;
-            }
-            for (who, i) in self.instances(&st.g, t) {
-                if i.has(mark::DUE) && self.may_begin(st, t, who, i) {
-                    out.push(TG3Action::Begin(who, i.pack()));
-                }
-            }
-        }
-        if self.ctl_may_begin(st) {
-            out.push(TG3Action::CtlPhase);
-        }
-    }
-
-    /// Whether time may not pass: some codel may begin.
+    /// Whether time may not pass: some codel may begin or some ticket be
+    /// taken.
     pub fn urgent(&self, st: &TG3State) -> bool {
         let mut v = Vec::new();
         self.begins(st, &mut v);
@@ -557,18 +574,6 @@ impl<'a> TimedEngine<'a> {
     pub fn let_time_pass(&self, mut st: TG3State) -> TG3State {
         if st.violation.is_none() && !self.urgent(&st) {
             st.zone.up();
-            for t in 0..self.e.m.tasks.len() {
-                let due = self
-                    .instances(&st.g, t)
-                    .iter()
-                    .any(|(_, i)| i.has(mark::DUE));
-                if due && self.running(&st.g, t).is_none() {
-                    st.waiting |= 1 << t;
-                }
-            }
-            if let Some(c) = st.ctl.as_mut().filter(|c| !c.running) {
-                c.waited = true;
-            }
         }
         for (x, c) in self.invariants(&st) {
             st.zone.upper(x, c);
@@ -659,7 +664,7 @@ impl Model for TimedEngine<'_> {
     }
 
     fn width(&self) -> usize {
-        self.e.width() + 4
+        self.e.width() + 4 + self.queue_words()
     }
 
     fn init_states(&self) -> Vec<TG3State> {
@@ -686,7 +691,12 @@ impl Model for TimedEngine<'_> {
         out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
         out.push(v);
         out.push(st.ctl.map_or(0, Ctl::pack));
-        out.push(st.waiting | st.late << 32);
+        out.push(st.late);
+        let mut words = vec![0u64; self.queue_words()];
+        for (x, &th) in st.queue.iter().enumerate() {
+            words[x / QUEUE_PER_WORD] |= u64::from(th + 1) << (6 * (x % QUEUE_PER_WORD));
+        }
+        out.extend(words);
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
@@ -695,15 +705,21 @@ impl Model for TimedEngine<'_> {
         let bits = w.get(k).copied().unwrap_or(0);
         let v = w.get(k + 1).copied().unwrap_or(0);
         let ctl = w.get(k + 2).copied().and_then(Ctl::unpack);
-        let word = w.get(k + 3).copied().unwrap_or(0);
-        let (waiting, late) = (word & 0xffff_ffff, word >> 32);
+        let late = w.get(k + 3).copied().unwrap_or(0);
+        let queue = w
+            .iter()
+            .skip(k + 4)
+            .flat_map(|&word| (0..QUEUE_PER_WORD).map(move |x| (word >> (6 * x)) & 63))
+            .take_while(|&v| v != 0)
+            .map(|v| (v - 1) as u8)
+            .collect();
         TG3State {
             g,
             cont: bits & 0xffff_ffff,
             ticked: bits >> 32,
             violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
             ctl,
-            waiting,
+            queue,
             late,
             zone: zone.clone(),
         }

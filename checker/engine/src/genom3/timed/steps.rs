@@ -3,7 +3,7 @@
 //! (the untimed engine's), and after each of them the sweeps that follow
 //! at once ([`TimedEngine::finish`]).
 
-use super::{Ctl, TG3Action, TG3State, TimedEngine, Who, idle_running, service_index};
+use super::{CTL, Ctl, TG3Action, TG3State, TimedEngine, Who, idle_running, service_index};
 use crate::engine::explore::Model;
 use crate::genom3::machine::Target;
 use crate::genom3::state::{G3State, Inst, Phase, Status, mark};
@@ -75,18 +75,15 @@ impl TimedEngine<'_> {
                     job,
                     phase: 0,
                     running: false,
-                    waited: false,
                 });
             }
             TG3Action::CtlPhase => {
                 let c = n.ctl?;
-                n.ctl = Some(Ctl {
-                    running: true,
-                    waited: false,
-                    ..c
-                });
+                n.ctl = Some(Ctl { running: true, ..c });
+                n.queue.retain(|&u| u != CTL);
                 n.zone.reset(self.ctl_clock);
             }
+            TG3Action::CtlTicket => n.queue.push(CTL),
             TG3Action::CtlEnd(ok) => {
                 let c = n.ctl?;
                 let next = usize::from(c.phase) + 1;
@@ -96,7 +93,6 @@ impl TimedEngine<'_> {
                         job: c.job,
                         phase: c.phase + 1,
                         running: false,
-                        waited: false,
                     });
                 } else if ok {
                     if let Some(g) = self.e.next_state(&n.g, c.job) {
@@ -108,12 +104,22 @@ impl TimedEngine<'_> {
                 let i = Inst::unpack(v)?;
                 let t = self.e.m.task_of(who.owner());
                 let busy = Inst {
-                    mark: (i.mark & !mark::DUE) | mark::BUSY,
+                    mark: (i.mark & !(mark::DUE | mark::TICKET)) | mark::BUSY,
                     ..i
                 };
                 replace(&mut n.g, who, v, Some(busy));
                 n.zone.reset(self.exec_clock[t]);
-                n.waiting &= !(1 << t);
+                n.queue.retain(|&u| usize::from(u) != t);
+            }
+            TG3Action::Ticket(who, v) => {
+                let i = Inst::unpack(v)?;
+                let t = self.e.m.task_of(who.owner());
+                let held = Inst {
+                    mark: i.mark | mark::TICKET,
+                    ..i
+                };
+                replace(&mut n.g, who, v, Some(held));
+                n.queue.push(t as u8);
             }
             TG3Action::End(who, v, o) => {
                 let i = Inst::unpack(v)?;
@@ -181,7 +187,15 @@ impl TimedEngine<'_> {
         if self.urgent(st) {
             return None;
         }
-        let holders = self.holders(st, Some(t));
+        // The locks that keep the queue up to `t`'s ticket waiting.
+        let queued = self.queued_codels(st, t as u8);
+        let holders: Vec<_> = self
+            .holders(st, Some(t))
+            .into_iter()
+            .filter(|&(j, _, _)| {
+                queued.is_empty() || queued.iter().any(|&(_, k)| self.locks.excludes(k, j))
+            })
+            .collect();
         if holders.is_empty() {
             // Due work that nothing running delays and that cannot begin:
             // it stays unfinished at the tick.
@@ -229,6 +243,7 @@ impl TimedEngine<'_> {
     /// The steps that follow at once: an idle task with nothing due whose
     /// last sweep made an unpaused transition sweeps again.
     pub(super) fn finish(&self, mut n: TG3State) -> TG3State {
+        self.drop_stale_tickets(&mut n);
         for t in 0..self.e.m.tasks.len() {
             if n.cont >> t & 1 == 1
                 && !self
@@ -246,6 +261,25 @@ impl TimedEngine<'_> {
             }
         }
         n
+    }
+
+    /// Drops the tickets whose codel is gone (its instance was removed, or
+    /// the control thread's request ended).
+    fn drop_stale_tickets(&self, n: &mut TG3State) {
+        if n.queue.is_empty() {
+            return;
+        }
+        let holds = |u: u8| {
+            if u == CTL {
+                n.ctl.is_some_and(|c| !c.running)
+            } else {
+                self.instances(&n.g, usize::from(u))
+                    .iter()
+                    .any(|(_, i)| i.has(mark::TICKET))
+            }
+        };
+        let kept: Vec<u8> = n.queue.iter().copied().filter(|&u| holds(u)).collect();
+        n.queue = kept;
     }
 
     /// Ends the running codel of instance `i` with outcome `o`: the untimed

@@ -171,7 +171,59 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
             let state = Inst::unpack(v).map_or(0, |i| i.state);
             codel_text(&te.e, who.owner(), state, o, &before.g, &after.g)
         }
+        TG3Action::Ticket(who, v) => {
+            let state = Inst::unpack(v).map_or(0, |i| i.state);
+            let owner = who.owner();
+            let st = &m.fsm(owner).states[usize::from(state)];
+            let t = m.task_of(owner);
+            let k = te.locks.key(owner, state);
+            let mut s = TraceStep::new(
+                Event::LockWait,
+                format!(
+                    "{} takes a ticket for codel `{}` in state `{}` and waits: {}",
+                    crate::genom3::analysis::describe(&te.e, owner),
+                    st.function,
+                    st.name,
+                    why_waiting(te, before, Some(t), k)
+                ),
+            );
+            s.thread = Some(m.tasks[t].name.clone());
+            if let Who::Act(x) = who {
+                s.service = Some(m.activity_name(usize::from(x)).to_owned());
+            }
+            s.codel = Some(st.name.clone());
+            s.span = Some(st.span);
+            s
+        }
+        TG3Action::CtlTicket => ctl_step(te, before, a),
     }
+}
+
+/// Why a codel (key `k`) of thread `t` (`None`: control) cannot begin in
+/// `st`: a thread runs a codel it waits for, or older tickets are queued.
+fn why_waiting(te: &TimedEngine<'_>, st: &TG3State, t: Option<usize>, k: usize) -> String {
+    let m = te.m();
+    let thread = |u: Option<usize>| u.map_or("the control thread".to_owned(), |u| format!("task `{}`", m.tasks[u].name));
+    for u in (0..m.tasks.len()).filter(|&u| Some(u) != t) {
+        if let Some((w, i)) = te.running(&st.g, u) {
+            if te.locks.excludes(k, te.locks.key(w.owner(), i.state)) {
+                let name = &m.fsm(w.owner()).states[usize::from(i.state)].name;
+                return format!("{} runs `{name}`, which holds a lock it needs", thread(Some(u)));
+            }
+        }
+    }
+    if t.is_some() && st.ctl.is_some_and(|c| c.running) {
+        if let Some(j) = te.ctl_codel(st).filter(|&j| te.locks.excludes(k, j)) {
+            let _ = j;
+            return "the control thread runs a codel that holds a lock it needs".to_owned();
+        }
+    }
+    let ahead: Vec<String> = st
+        .queue
+        .iter()
+        .map(|&u| thread((u != super::CTL).then_some(usize::from(u))))
+        .collect();
+    format!("older tickets are queued ahead of it ({}), GenoM3's resource queue serves them first", ahead.join(", "))
 }
 
 /// A control codel beginning or ending.
@@ -197,6 +249,15 @@ fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep 
                 "`{name}`'s control codel `{function}` ({codel}) throws: the request ends with that exception"
             ),
             Some("exception".to_owned()),
+        ),
+        TG3Action::CtlTicket => (
+            Event::LockWait,
+            format!(
+                "the control thread takes a ticket for `{name}`'s control codel `{function}` ({codel}) and waits: {}",
+                te.ctl_codel(before)
+                    .map_or(String::new(), |k| why_waiting(te, before, None, k))
+            ),
+            None,
         ),
         _ => (
             Event::CodelStart,

@@ -32,8 +32,12 @@
 //!   `codel-end`: the task's running codel, after at most its WCET (at
 //!   least, `async`), a yield of that state (`pause::` included) or
 //!   `exception`; an interrupted instance goes to `stop` after it;
-//! - urgency: time never passes while an idle task has a due codel whose
-//!   locks are free;
+//! - GenoM3's resource queue (8.3): a thread that cannot begin its codel
+//!   (a lock it waits for is held, or tickets are queued) takes a ticket
+//!   (`lock-wait`) and begins only at the queue's head; a thread without a
+//!   ticket begins only when the queue is empty;
+//! - urgency: time never passes while an idle task has a due codel and no
+//!   ticket, nor while the thread at the queue's head has its locks free;
 //! - control thread (`control`): `accept` (activities, functions, `kill`;
 //!   `pending` exactly when the new instance waits for the instances it
 //!   interrupts), `interrupt` (`abort_activity`), `request` then its
@@ -81,6 +85,8 @@ struct Inst {
     busy: Option<u64>,
     /// Interrupted while running or due: to `stop` after that codel.
     flagged: bool,
+    /// Its task holds a ticket for its due codel (8.3).
+    ticket: bool,
 }
 
 impl Inst {
@@ -93,6 +99,7 @@ impl Inst {
             paused: false,
             busy: None,
             flagged: false,
+            ticket: false,
         }
     }
 
@@ -160,6 +167,9 @@ struct Sim<'m, 'c> {
     coalesce: bool,
     /// Per task: a coalesced tick is pending.
     late: Vec<bool>,
+    /// GenoM3's resource queue (8.3): the threads holding a ticket, oldest
+    /// first (`None`: the control thread).
+    queue: Vec<Option<usize>>,
 }
 
 /// Replays an overrun trace of the timed GenoM3 engine on `c` (read with
@@ -290,6 +300,7 @@ impl<'m, 'c> Sim<'m, 'c> {
             accepted: vec![None; m.activities.len()],
             coalesce: false,
             late: vec![false; m.tasks.len()],
+            queue: Vec::new(),
         };
         sim.settle(false);
         sim
@@ -480,44 +491,102 @@ impl<'m, 'c> Sim<'m, 'c> {
         Ok(())
     }
 
-    /// Time may pass: no idle task has a due codel whose locks are free.
+    /// Time may pass: every idle task with a due codel, and the control
+    /// thread with a codel to run, holds a ticket, and the queue's head
+    /// waits for a lock.
     fn urgent(&self) -> Result<(), String> {
         for t in (0..self.m.tasks.len()).filter(|&t| self.spawned(t)) {
-            if self.running(t).is_some() {
+            if self.running(t).is_some() || self.queue.contains(&Some(t)) {
                 continue;
             }
-            let due = |i: &&Inst| self.task_of(i.owner) == t && i.due && self.free(t, i);
-            if let Some(i) = self.insts.iter().find(due) {
+            if let Some(i) = self.insts.iter().find(|i| self.task_of(i.owner) == t && i.due) {
                 return Err(format!(
-                    "time passes while task `{}` may begin state `{}` (its locks are free at {} ns)",
+                    "time passes while task `{}` neither begins state `{}` nor takes a ticket for it at {} ns",
                     self.m.tasks[t].name,
                     self.fsm_state(i.owner, i.state).name,
                     self.now
                 ));
             }
         }
-        let Some(r) = self.ctl.as_ref().filter(|r| r.since.is_none()) else {
+        if self.ctl_codel().is_some() && !self.queue.contains(&None) {
+            return Err(format!(
+                "time passes while the control thread neither begins its codel nor takes a ticket for it at {} ns",
+                self.now
+            ));
+        }
+        let Some(&head) = self.queue.first() else {
             return Ok(());
         };
-        let Some(&i) = self.timed_codels(r.service).get(r.next) else {
+        let Some(k) = self.ticket_codel(head) else {
             return Ok(());
         };
-        let k = Codel::Ctl(r.service, i);
-        let held = self.holders(None).iter().any(|&(j, _)| self.waits(k, j));
-        // A task waiting for a lock took its ticket first (8.3).
-        let queued = self.insts.iter().any(|x| {
-            let j = Codel::Fsm(x.owner, x.state);
-            x.due
-                && self.running(self.task_of(x.owner)).is_none()
-                && (self.waits(k, j) || self.waits(j, k))
-        });
-        if held || queued {
+        if self.holders(head).iter().any(|&(j, _)| self.waits(k, j)) {
             return Ok(());
         }
+        let who = head.map_or("the control thread".to_owned(), |t| {
+            format!("task `{}`", self.m.tasks[t].name)
+        });
         Err(format!(
-            "time passes while the control thread may begin `{}` (its locks are free at {} ns)",
-            self.m.control_codels[&r.service][i].name, self.now
+            "time passes while {who}, at the head of the resource queue, may begin its codel (its locks are free at {} ns)",
+            self.now
         ))
+    }
+
+    /// The control codel the control thread is to begin next, if any.
+    fn ctl_codel(&self) -> Option<Codel> {
+        let r = self.ctl.as_ref().filter(|r| r.since.is_none())?;
+        let i = *self.timed_codels(r.service).get(r.next)?;
+        Some(Codel::Ctl(r.service, i))
+    }
+
+    /// The codel a queued thread holds its ticket for.
+    fn ticket_codel(&self, th: Option<usize>) -> Option<Codel> {
+        match th {
+            None => self.ctl_codel(),
+            Some(t) => self
+                .insts
+                .iter()
+                .find(|i| self.task_of(i.owner) == t && i.ticket)
+                .map(|i| Codel::Fsm(i.owner, i.state)),
+        }
+    }
+
+    /// The codels queued up to and including `th`'s ticket.
+    fn queued_up_to(&self, th: Option<usize>) -> Vec<Codel> {
+        let mut out = Vec::new();
+        for &u in &self.queue {
+            out.extend(self.ticket_codel(u));
+            if u == th {
+                break;
+            }
+        }
+        out
+    }
+
+    /// A thread (a task, `None` for the control thread) begins a codel:
+    /// at the queue's head (then its ticket is served), or holding no
+    /// ticket while the queue is empty.
+    fn served(&mut self, th: Option<usize>) -> Result<(), String> {
+        match self.queue.first() {
+            None => Ok(()),
+            Some(&h) if h == th => {
+                self.queue.remove(0);
+                Ok(())
+            }
+            Some(_) if self.queue.contains(&th) => {
+                Err("its ticket is not at the head of the resource queue".into())
+            }
+            Some(_) => Err("tickets are queued: it must take one and wait its turn".into()),
+        }
+    }
+
+    /// Drops the tickets whose codel is gone.
+    pub(super) fn drop_stale_tickets(&mut self) {
+        let queue = std::mem::take(&mut self.queue);
+        self.queue = queue
+            .into_iter()
+            .filter(|&u| self.ticket_codel(u).is_some())
+            .collect();
     }
 
     /// Every codel that began while a codel of another thread it waits for

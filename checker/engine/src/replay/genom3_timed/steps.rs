@@ -19,6 +19,8 @@ impl Sim<'_, '_> {
             Event::CodelEnd if control => self.ctl_end(s),
             Event::CodelStart => self.codel_start(s, k),
             Event::CodelEnd => self.codel_end(s),
+            Event::LockWait if control => self.ctl_ticket(),
+            Event::LockWait => self.ticket(s),
             Event::Request | Event::Accept | Event::Interrupt if !control => {
                 Err("requests are handled by the `control` thread".into())
             }
@@ -98,12 +100,9 @@ impl Sim<'_, '_> {
             ));
         }
         let holders = self.holders(Some(t));
-        let blocked = self.insts.iter().any(|i| {
-            self.task_of(i.owner) == t
-                && i.due
-                && holders.iter().any(|&(j, since)| {
-                    self.waits(Codel::Fsm(i.owner, i.state), j) && before_wcet((j, since))
-                })
+        let queued = self.queued_up_to(Some(t));
+        let blocked = holders.iter().any(|&(j, since)| {
+            queued.iter().any(|&k| self.waits(k, j)) && before_wcet((j, since))
         });
         if blocked {
             return Ok(());
@@ -160,6 +159,7 @@ impl Sim<'_, '_> {
 
     /// Continuation sweeps of tasks with nothing left due.
     pub(super) fn finish(&mut self) {
+        self.drop_stale_tickets();
         for t in 0..self.m.tasks.len() {
             let busy = self
                 .insts
@@ -213,8 +213,16 @@ impl Sim<'_, '_> {
         let p = self
             .find(s, |i| i.due)
             .map_err(|e| format!("{e} (due in the task's sweep)"))?;
+        if self.queue.contains(&Some(t)) && !self.insts[p].ticket {
+            return Err("the task holds a ticket for another codel".into());
+        }
+        // An `async` codel takes no lock and no ticket (7.2).
+        if !self.fsm_state(self.insts[p].owner, self.insts[p].state).is_async {
+            self.served(Some(t))?;
+        }
         let i = &mut self.insts[p];
         i.due = false;
+        i.ticket = false;
         i.busy = Some(self.now);
         let codel = Codel::Fsm(i.owner, i.state);
         self.runs.push(Interval {
@@ -341,6 +349,7 @@ impl Sim<'_, '_> {
         if r.since.is_some() || s.codel.as_deref() != Some(name.as_str()) {
             return Err(format!("the control thread's next codel is `{name}`"));
         }
+        self.served(None)?;
         self.ctl = Some(Request {
             since: Some(self.now),
             ..r
@@ -352,6 +361,37 @@ impl Sim<'_, '_> {
             end: None,
             step: k,
         });
+        Ok(())
+    }
+
+    /// A task takes a ticket for a due codel it cannot begin now.
+    fn ticket(&mut self, s: &TraceStep) -> Result<(), String> {
+        let t = self.task_named(s.thread.as_deref())?;
+        if !self.spawned(t) || self.running(t).is_some() || self.queue.contains(&Some(t)) {
+            return Err("the task is not idle without a ticket".into());
+        }
+        let p = self
+            .find(s, |i| i.due)
+            .map_err(|e| format!("{e} (due in the task's sweep)"))?;
+        if self.queue.is_empty() && self.free(t, &self.insts[p]) {
+            return Err("the codel may begin now (its locks are free, no ticket is queued)".into());
+        }
+        self.insts[p].ticket = true;
+        self.queue.push(Some(t));
+        Ok(())
+    }
+
+    /// The control thread takes a ticket for its next codel.
+    fn ctl_ticket(&mut self) -> Result<(), String> {
+        let k = self.ctl_codel().ok_or("the control thread has no codel to begin")?;
+        if self.queue.contains(&None) {
+            return Err("the control thread already holds a ticket".into());
+        }
+        let held = self.holders(None).iter().any(|&(j, _)| self.waits(k, j));
+        if self.queue.is_empty() && !held {
+            return Err("the control codel may begin now (its locks are free, no ticket is queued)".into());
+        }
+        self.queue.push(None);
         Ok(())
     }
 

@@ -70,8 +70,9 @@ fn every_fixture_overrun_replays() {
         }
     }
     // f1b (1, 1), f1b paused (0, 1), f3 (2, 2), f4 (0, 1), f7 free (0, 1),
-    // f7 lock (1, 1), f9 granularity (2, 2), f9 writers (0, 2).
-    assert_eq!(replayed, 17);
+    // f7 lock (1, 1), f9 FIFO (1, 1), f9 granularity (2, 2), f9 writers
+    // (0, 2).
+    assert_eq!(replayed, 19);
 }
 
 fn demo() -> Component {
@@ -222,6 +223,10 @@ fn a_dropped_tick_is_rejected() {
         .position(|s| s.event == Event::WakeUp && s.time_ns == Some(10 * MS))
         .unwrap();
     t.steps.remove(k);
+    // With it goes the ticket `t` took at that tick for `main`.
+    if t.steps[k].event == Event::LockWait {
+        t.steps.remove(k);
+    }
     rejected(&c, 1, &t, "task `t` missed its tick at 10000000 ns");
 }
 
@@ -264,7 +269,7 @@ fn idling_with_a_free_due_codel_is_rejected() {
         &c,
         1,
         &t,
-        "time passes while task `t` may begin state `exec`",
+        "time passes while task `t` neither begins state `exec` nor takes a ticket for it",
     );
 }
 
@@ -282,6 +287,33 @@ fn a_control_thread_idling_with_its_locks_free_is_rejected() {
         &c,
         1,
         &t,
-        "time passes while the control thread may begin `codel`",
+        "time passes while the control thread neither begins its codel nor takes a ticket",
     );
+}
+
+#[test]
+fn a_codel_begun_out_of_ticket_order_is_rejected() {
+    // `b` took its ticket before `c`; both begin at 18 ms, `b` first.
+    let (c, mut t) = trace_of("f9_fifo", 1, "c");
+    let b = t
+        .steps
+        .iter()
+        .rposition(|s| s.event == Event::CodelStart && s.thread.as_deref() == Some("b"))
+        .unwrap();
+    assert_eq!(t.steps[b + 1].thread.as_deref(), Some("c"), "{t:#?}");
+    t.steps.swap(b, b + 1);
+    rejected(&c, 1, &t, "not at the head of the resource queue");
+}
+
+#[test]
+fn a_ticket_taken_with_the_locks_free_and_no_queue_is_rejected() {
+    // Without `b`'s ticket, `c`'s codel could begin at once.
+    let (c, mut t) = trace_of("f9_fifo", 1, "c");
+    let b = t
+        .steps
+        .iter()
+        .position(|s| s.event == Event::LockWait && s.thread.as_deref() == Some("b"))
+        .unwrap();
+    t.steps.remove(b);
+    rejected(&c, 1, &t, "the codel may begin now");
 }
