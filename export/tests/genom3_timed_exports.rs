@@ -110,10 +110,16 @@ fn the_network_is_well_formed() {
             overruns, periodic,
             "{name}: one overrun label per periodic task"
         );
-        assert!(
+        // Labels name activities' codels (f9_fifo has only permanent ones).
+        let activities = c
+            .services
+            .values()
+            .any(|s| !s.codels.is_empty() && s.thread.is_some());
+        assert_eq!(
             net.labels
                 .iter()
                 .any(|l| matches!(l.kind, LabelKind::Codel(_))),
+            activities,
             "{name}: codel labels"
         );
     }

@@ -196,12 +196,26 @@ impl Builder<'_> {
                 format!("{name}: control codel {} begins", codel.name),
             );
             b.urgent = true;
-            b.statements = vec![
+            b.statements = self.fifo_leave(None);
+            b.statements.extend([
                 set(self.crun, idx(codel.key) + 1),
                 set(self.cph, self.cph_value(sid, n, true)),
                 Stmt::Reset(self.ctl_clock),
-            ];
+            ]);
             p.edges.push(b);
+            let mut k = self.ctl_edge(
+                wait,
+                wait,
+                "cticket",
+                self.ctl_must_wait(codel.key),
+                format!(
+                    "{name}: control codel {} takes a ticket and waits",
+                    codel.name
+                ),
+            );
+            k.urgent = true;
+            k.statements = self.fifo_take(None, None);
+            p.edges.push(k);
             let last = n + 1 == timed.len();
             let mut ok = self.ctl_edge(
                 run,
@@ -231,27 +245,22 @@ impl Builder<'_> {
         }
     }
 
-    /// Control codel `k` may begin: its locks are free, and no idle task
-    /// has a due codel it conflicts with (that codel's ticket in GenoM3's
-    /// FIFO comes first, 8.3).
+    /// Control codel `k` may begin: its locks are free and it is its turn
+    /// in GenoM3's resource FIFO (8.3).
     fn ctl_may_begin(&self, k: usize) -> Expr {
-        let mut c = vec![self.alive(), self.lock_free(k, None)];
-        for (i, slot) in self.r.slots.iter().enumerate() {
-            let tv = self.tasks[slot.task];
-            for (s, st) in slot.fsm.states.iter().enumerate() {
-                let j = st.key;
-                if !self.r.keys[j].excl.contains(&k) && !self.r.keys[k].excl.contains(&j) {
-                    continue;
-                }
-                let sv = self.slots[i];
-                c.push(Expr::negation(Expr::and([
-                    is(tv.busy, 0),
-                    is(sv.due, 1),
-                    is(sv.q, idx(s)),
-                ])));
-            }
-        }
-        Expr::and(c)
+        Expr::and([
+            self.alive(),
+            self.fifo_begin(None, None, self.lock_free(k, None)),
+        ])
+    }
+
+    /// Control codel `k` cannot begin now: the control thread takes a
+    /// ticket.
+    fn ctl_must_wait(&self, k: usize) -> Expr {
+        Expr::and([
+            self.alive(),
+            self.fifo_must_wait(None, self.lock_free(k, None)),
+        ])
     }
 
     /// The value of `cph` at the `n`-th timed control codel of `sid`,
@@ -268,6 +277,7 @@ impl Builder<'_> {
         for (i, slot) in self.r.slots.iter().enumerate() {
             for s in 0..slot.fsm.states.len() {
                 any.push(self.begin_guard(i, s));
+                any.push(self.ticket_guard(i, s));
             }
         }
         for (t, task) in self.r.tasks.iter().enumerate() {
@@ -279,10 +289,9 @@ impl Builder<'_> {
         for (&sid, timed) in &self.timed_ctl {
             let codels = self.r.ctl_codels.get(&sid).cloned().unwrap_or_default();
             for (n, &j) in timed.iter().enumerate() {
-                any.push(Expr::and([
-                    is(self.cph, self.cph_value(sid, n, false)),
-                    self.ctl_may_begin(codels[j].key),
-                ]));
+                let wait = is(self.cph, self.cph_value(sid, n, false));
+                any.push(Expr::and([wait.clone(), self.ctl_may_begin(codels[j].key)]));
+                any.push(Expr::and([wait, self.ctl_must_wait(codels[j].key)]));
             }
         }
         Expr::or(any)

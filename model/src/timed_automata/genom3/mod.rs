@@ -34,11 +34,15 @@
 //!   sweeps that follow at once.
 //! - **Urgency**: codel begins (and the control thread's) are urgent
 //!   edges with integer guards; [`Network::urgency`] says one is enabled.
+//! - **GenoM3's resource FIFO** ([`fifo`]): `qlen`, `tpos_T`, `tslot_T`
+//!   and `cpos`; a thread that cannot begin its codel takes a ticket (the
+//!   urgent `ticket`/`cticket` edges) and begins at the queue's head.
 //!
 //! Labels: `codel_SERVICE_CODEL` on the location where an activity's codel
 //! runs, `overrun_TASK` on a periodic task's overrun location.
 
 mod control;
+mod fifo;
 mod read;
 mod stmts;
 mod tasks;
@@ -63,7 +67,7 @@ pub enum Genom3NetworkError {
 }
 
 /// Event names and what they do.
-const EVENTS: [(&str, &str); 9] = [
+const EVENTS: [(&str, &str); 11] = [
     ("tick", "a periodic task's tick"),
     (
         "overrun",
@@ -71,6 +75,14 @@ const EVENTS: [(&str, &str); 9] = [
     ),
     ("wake", "an aperiodic task is activated"),
     ("begin", "a task begins a codel"),
+    (
+        "ticket",
+        "a thread takes a ticket in GenoM3's resource FIFO for a codel it cannot begin",
+    ),
+    (
+        "cticket",
+        "the control thread takes a ticket for a control codel it cannot begin",
+    ),
     ("finish", "a task's codel ends with one of its outcomes"),
     ("drop", "a codel killed by the shutdown is forgotten"),
     ("request", "the control thread handles a request"),
@@ -156,6 +168,8 @@ struct Builder<'a> {
     /// Per service: its control codels that take time (indices).
     timed_ctl: BTreeMap<ServiceId, Vec<usize>>,
     locals: usize,
+    /// GenoM3's resource FIFO ([`fifo`]).
+    fifo: fifo::Fifo,
 }
 
 /// Phase values.
@@ -247,6 +261,7 @@ impl<'a> Builder<'a> {
             bounds: Vec::new(),
             timed_ctl: BTreeMap::new(),
             locals: 0,
+            fifo: fifo::Fifo::default(),
         }
     }
 
@@ -307,6 +322,7 @@ impl<'a> Builder<'a> {
             "time since the running control codel began".to_owned(),
         );
         self.declare_slots();
+        self.declare_fifo();
         let n = i64::try_from(self.r.tasks.len()).unwrap_or(i64::MAX);
         self.phase = self.int(
             "phase",
@@ -476,8 +492,9 @@ impl<'a> Builder<'a> {
         out
     }
 
-    /// The control codels that take time: a WCET and a lock some task's
-    /// codel contends (15.5); the others are instantaneous.
+    /// The control codels with a lock some task's codel contends (15.5),
+    /// even those that take no time (waiting, their ticket delays those
+    /// behind it); the others are instantaneous and take no ticket.
     fn timed_control_codels(&self) -> BTreeMap<ServiceId, Vec<usize>> {
         let mut out = BTreeMap::new();
         for (&sid, list) in &self.r.ctl_codels {
@@ -486,7 +503,7 @@ impl<'a> Builder<'a> {
                     let k = list[i].key;
                     let contended = !self.r.keys[k].excl.is_empty()
                         || self.r.keys.iter().any(|j| j.excl.contains(&k));
-                    contended && self.bounds[k].1.is_some_and(|w| w > 0)
+                    contended
                 })
                 .collect();
             if !kept.is_empty() {

@@ -39,10 +39,13 @@ impl Builder<'_> {
     /// Empties slot `i`.
     pub(super) fn clear(&self, i: usize) -> Vec<Stmt> {
         let s = self.slots[i];
-        [s.st, s.q, s.due, s.pz, s.fl]
-            .into_iter()
-            .map(|x| set(x, 0))
-            .collect()
+        let mut out = self.fifo_drop_slot(i);
+        out.extend(
+            [s.st, s.q, s.due, s.pz, s.fl]
+                .into_iter()
+                .map(|x| set(x, 0)),
+        );
+        out
     }
 
     /// Slot `i` ends (`success`: its service completed, 4.1).
@@ -305,13 +308,15 @@ impl Builder<'_> {
                 continue;
             };
             let s = self.slots[p];
-            return vec![
+            let mut out = self.fifo_drop_slot(p);
+            out.extend([
                 set(s.st, 4),
                 set(s.q, idx(stop)),
                 set(s.pz, 0),
                 set(s.due, 0),
                 set(self.pstop, idx(t)),
-            ];
+            ]);
+            return out;
         }
         vec![set(self.phase, STOPPED)]
     }

@@ -55,18 +55,42 @@ impl Builder<'_> {
         Expr::or(c)
     }
 
-    /// The guards of slot `i`'s begin of state `s` (an idle task).
-    pub(super) fn begin_guard(&self, i: usize, s: usize) -> Expr {
+    /// Slot `i`'s state `s` is due on its idle task.
+    fn due_now(&self, i: usize, s: usize) -> Expr {
         let t = self.r.slots[i].task;
         let sv = self.slots[i];
-        let key = self.r.slots[i].fsm.states[s].key;
         Expr::and([
             self.alive(),
             is(self.tasks[t].busy, 0),
             is(sv.due, 1),
             is(sv.q, idx(s)),
-            self.lock_free(key, Some(t)),
         ])
+    }
+
+    /// The guards of slot `i`'s begin of state `s` (an idle task): its
+    /// locks free and its turn in the resource FIFO (an `async` codel takes
+    /// no lock and no ticket).
+    pub(super) fn begin_guard(&self, i: usize, s: usize) -> Expr {
+        let t = self.r.slots[i].task;
+        let key = self.r.slots[i].fsm.states[s].key;
+        let go = if self.bounds[key].1.is_none() {
+            self.fifo_async(t)
+        } else {
+            self.fifo_begin(Some(t), Some(i), self.lock_free(key, Some(t)))
+        };
+        Expr::and([self.due_now(i, s), go])
+    }
+
+    /// The guards of slot `i`'s ticket for state `s`: due, and it cannot
+    /// begin now (never for an `async` codel).
+    pub(super) fn ticket_guard(&self, i: usize, s: usize) -> Expr {
+        let t = self.r.slots[i].task;
+        let key = self.r.slots[i].fsm.states[s].key;
+        if self.bounds[key].1.is_none() {
+            return Expr::FALSE;
+        }
+        let wait = self.fifo_must_wait(Some(t), self.lock_free(key, Some(t)));
+        Expr::and([self.due_now(i, s), wait])
     }
 
     /// The task's process.
@@ -296,14 +320,28 @@ impl Builder<'_> {
             format!("{here}: begins"),
         );
         b.urgent = true;
-        b.statements = vec![
+        b.statements = self.fifo_leave(Some(t));
+        b.statements.extend([
             set(self.slots[i].due, 0),
             set(tv.busy, 1),
             set(tv.cur, idx(i) + 1),
             set(tv.run, idx(st.key) + 1),
             Stmt::Reset(tv.exec),
-        ];
+        ]);
         p.edges.push(b);
+        let ticket = self.ticket_guard(i, s);
+        if !ticket.is_false() {
+            let mut k = self.edge(
+                1,
+                1,
+                "ticket",
+                ticket,
+                format!("{here}: takes a ticket and waits"),
+            );
+            k.urgent = true;
+            k.statements = self.fifo_take(Some(t), Some(i));
+            p.edges.push(k);
+        }
         let live = Expr::and([self.alive(), self.busy(i)]);
         for o in 0..=st.yields.len() {
             let mut e = self.edge(

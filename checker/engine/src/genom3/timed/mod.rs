@@ -146,8 +146,7 @@ impl Ctl {
             G3Action::Call(k) => (2, k),
             _ => (3, 0),
         };
-        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1
-            | u64::from(self.running)
+        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1 | u64::from(self.running)
     }
 
     fn unpack(v: u64) -> Option<Ctl> {
@@ -206,10 +205,12 @@ pub struct TimedEngine<'a> {
     /// GenoM3 (the task wakes again as soon as the work ends), instead of
     /// ending the exploration as a `thread-overrun` (for response times).
     pub coalesce: bool,
-    /// Per service: the control codels (indices) that take time and whose
-    /// locks some task's codel contends; the others run in no time here (a
-    /// request may come at any time, so their duration changes nothing a
-    /// task sees).
+    /// Per service: the control codels (indices) whose locks some task's
+    /// codel contends, even those that take no time (while one waits, its
+    /// ticket delays those behind it); the others run in no time here (a
+    /// request may come at any time, they never wait, and they make no one
+    /// wait, so neither their duration nor their ticket changes what a task
+    /// sees).
     pub(crate) jobs: BTreeMap<ServiceId, Vec<usize>>,
     /// Per control service: the one standing for it in requests, when its
     /// request does nothing but run its contended codels and another's
@@ -292,9 +293,9 @@ impl<'a> TimedEngine<'a> {
             .map(|(&sid, v)| {
                 let kept = (0..v.len())
                     .filter(|&i| {
-                        locks.ctl_key(sid, i).is_some_and(|k| {
-                            locks.contended(k) && locks.wcet_of(k).is_some_and(|w| w > 0)
-                        })
+                        // Contended: it may wait, so it holds a ticket that
+                        // delays those behind it even when it takes no time.
+                        locks.ctl_key(sid, i).is_some_and(|k| locks.contended(k))
                     })
                     .collect();
                 (sid, kept)
@@ -475,7 +476,10 @@ impl<'a> TimedEngine<'a> {
                 out.extend(self.ctl_codel(st).map(|k| (None, k)));
             } else {
                 let t = usize::from(u);
-                let ticket = self.instances(&st.g, t).into_iter().find(|(_, i)| i.has(mark::TICKET));
+                let ticket = self
+                    .instances(&st.g, t)
+                    .into_iter()
+                    .find(|(_, i)| i.has(mark::TICKET));
                 out.extend(ticket.map(|(w, i)| (Some(t), self.locks.key(w.owner(), i.state))));
             }
             if u == th {

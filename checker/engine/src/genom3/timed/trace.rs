@@ -203,12 +203,19 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
 /// `st`: a thread runs a codel it waits for, or older tickets are queued.
 fn why_waiting(te: &TimedEngine<'_>, st: &TG3State, t: Option<usize>, k: usize) -> String {
     let m = te.m();
-    let thread = |u: Option<usize>| u.map_or("the control thread".to_owned(), |u| format!("task `{}`", m.tasks[u].name));
+    let thread = |u: Option<usize>| {
+        u.map_or("the control thread".to_owned(), |u| {
+            format!("task `{}`", m.tasks[u].name)
+        })
+    };
     for u in (0..m.tasks.len()).filter(|&u| Some(u) != t) {
         if let Some((w, i)) = te.running(&st.g, u) {
             if te.locks.excludes(k, te.locks.key(w.owner(), i.state)) {
                 let name = &m.fsm(w.owner()).states[usize::from(i.state)].name;
-                return format!("{} runs `{name}`, which holds a lock it needs", thread(Some(u)));
+                return format!(
+                    "{} runs `{name}`, which holds a lock it needs",
+                    thread(Some(u))
+                );
             }
         }
     }
@@ -223,7 +230,10 @@ fn why_waiting(te: &TimedEngine<'_>, st: &TG3State, t: Option<usize>, k: usize) 
         .iter()
         .map(|&u| thread((u != super::CTL).then_some(usize::from(u))))
         .collect();
-    format!("older tickets are queued ahead of it ({}), GenoM3's resource queue serves them first", ahead.join(", "))
+    format!(
+        "older tickets are queued ahead of it ({}), GenoM3's resource queue serves them first",
+        ahead.join(", ")
+    )
 }
 
 /// A control codel beginning or ending.

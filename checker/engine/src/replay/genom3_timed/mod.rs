@@ -422,9 +422,10 @@ impl<'m, 'c> Sim<'m, 'c> {
             .all(|&(j, _)| !self.waits(k, j))
     }
 
-    /// The control codels of `sid` shown in traces: those that take time
-    /// and contend a lock with some task's codel (the others run in no
-    /// time and change nothing a task sees).
+    /// The control codels of `sid` shown in traces: those that contend a
+    /// lock with some task's codel (the others never wait nor make wait,
+    /// so neither their duration nor their ticket changes what a task
+    /// sees).
     fn timed_codels(&self, sid: ServiceId) -> Vec<usize> {
         let Some(v) = self.m.control_codels.get(&sid) else {
             return Vec::new();
@@ -435,10 +436,9 @@ impl<'m, 'c> Sim<'m, 'c> {
         (0..v.len())
             .filter(|&i| {
                 let k = Codel::Ctl(sid, i);
-                v[i].wcet_ns.is_some_and(|w| w > 0)
-                    && fsm_codels
-                        .iter()
-                        .any(|&j| self.waits(k, j) || self.waits(j, k))
+                fsm_codels
+                    .iter()
+                    .any(|&j| self.waits(k, j) || self.waits(j, k))
             })
             .collect()
     }
@@ -499,7 +499,11 @@ impl<'m, 'c> Sim<'m, 'c> {
             if self.running(t).is_some() || self.queue.contains(&Some(t)) {
                 continue;
             }
-            if let Some(i) = self.insts.iter().find(|i| self.task_of(i.owner) == t && i.due) {
+            if let Some(i) = self
+                .insts
+                .iter()
+                .find(|i| self.task_of(i.owner) == t && i.due)
+            {
                 return Err(format!(
                     "time passes while task `{}` neither begins state `{}` nor takes a ticket for it at {} ns",
                     self.m.tasks[t].name,

@@ -101,9 +101,9 @@ impl Sim<'_, '_> {
         }
         let holders = self.holders(Some(t));
         let queued = self.queued_up_to(Some(t));
-        let blocked = holders.iter().any(|&(j, since)| {
-            queued.iter().any(|&k| self.waits(k, j)) && before_wcet((j, since))
-        });
+        let blocked = holders
+            .iter()
+            .any(|&(j, since)| queued.iter().any(|&k| self.waits(k, j)) && before_wcet((j, since)));
         if blocked {
             return Ok(());
         }
@@ -217,7 +217,10 @@ impl Sim<'_, '_> {
             return Err("the task holds a ticket for another codel".into());
         }
         // An `async` codel takes no lock and no ticket (7.2).
-        if !self.fsm_state(self.insts[p].owner, self.insts[p].state).is_async {
+        if !self
+            .fsm_state(self.insts[p].owner, self.insts[p].state)
+            .is_async
+        {
             self.served(Some(t))?;
         }
         let i = &mut self.insts[p];
@@ -383,13 +386,17 @@ impl Sim<'_, '_> {
 
     /// The control thread takes a ticket for its next codel.
     fn ctl_ticket(&mut self) -> Result<(), String> {
-        let k = self.ctl_codel().ok_or("the control thread has no codel to begin")?;
+        let k = self
+            .ctl_codel()
+            .ok_or("the control thread has no codel to begin")?;
         if self.queue.contains(&None) {
             return Err("the control thread already holds a ticket".into());
         }
         let held = self.holders(None).iter().any(|&(j, _)| self.waits(k, j));
         if self.queue.is_empty() && !held {
-            return Err("the control codel may begin now (its locks are free, no ticket is queued)".into());
+            return Err(
+                "the control codel may begin now (its locks are free, no ticket is queued)".into(),
+            );
         }
         self.queue.push(None);
         Ok(())
