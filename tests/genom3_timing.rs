@@ -155,6 +155,35 @@ fn point_9_the_resource_fifo_delays_a_codel_that_conflicts_with_nothing() {
 }
 
 #[test]
+fn point_7_an_attribute_ids_copy_takes_its_ticket_in_the_fifo() {
+    let r = check("f7_attribute_copy");
+    assert_eq!(overrunning(&r), ["c"]);
+    assert!(naive_overrunning(&r).is_empty());
+    assert_clean_traces(&r);
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun)
+        .unwrap();
+    let t = d.trace.as_ref().unwrap();
+    // The copy waits for `fa`, `c` waits behind the copy's ticket.
+    let waits: Vec<(Option<&str>, Option<&str>)> = t
+        .steps
+        .iter()
+        .filter(|s| s.event == Event::LockWait)
+        .map(|s| (s.thread.as_deref(), s.codel.as_deref()))
+        .collect();
+    assert_eq!(
+        waits,
+        [
+            (Some("control"), Some("ids-copy")),
+            (Some("c"), Some("start"))
+        ],
+        "{t:#?}"
+    );
+}
+
+#[test]
 fn point_9_locks_at_genom3_granularity() {
     let readers = check("f9_granularity");
     assert!(!overrunning(&readers).is_empty());

@@ -538,6 +538,7 @@ impl Checker<'_> {
                 Ok(())
             }
             Event::Delay | Event::Violation => Ok(()),
+            Event::LockWait => Err("`lock-wait` is a GenoM3 step".to_owned()),
         }
     }
 

@@ -441,10 +441,20 @@ fn tasks(c: &Component, g: &Genom3Info) -> Vec<TaskM> {
         .collect()
 }
 
-/// The control codels of every service that has some, in order.
+/// The name of an attribute's ids copy among its control codels.
+pub const IDS_COPY: &str = "ids-copy";
+
+/// The control codels of every service that has some, in order; an
+/// attribute's ids copy (6.1 step 4: under its own ticket, after
+/// `validate`) comes last, as a codel [`IDS_COPY`] without a model codel
+/// and without a WCET (it takes no time).
 fn control_codels(c: &Component, g: &Genom3Info) -> BTreeMap<ServiceId, Vec<FsmState>> {
     let mut out: BTreeMap<ServiceId, Vec<FsmState>> = BTreeMap::new();
     for (sid, s) in c.services.iter() {
+        let attribute = g
+            .services
+            .iter()
+            .any(|i| i.service == sid && i.kind == "attribute");
         for &k in &s.codels {
             let codel = &c.codels[k];
             if codel.kind != genom_model::kinds::CodelKind::Control {
@@ -464,8 +474,45 @@ fn control_codels(c: &Component, g: &Genom3Info) -> BTreeMap<ServiceId, Vec<FsmS
                 access: Access::of(&info.fsm),
             });
         }
+        if attribute {
+            out.entry(sid).or_default().push(FsmState {
+                name: IDS_COPY.to_owned(),
+                function: "ids copy".to_owned(),
+                codel: None,
+                span: s.name.span,
+                yields: Vec::new(),
+                is_async: false,
+                wcet_ns: None,
+                access: ids_copy_access(s),
+            });
+        }
     }
     out
+}
+
+/// What an attribute's ids copy accesses: it writes the members of its
+/// inputs and reads those of its outputs.
+fn ids_copy_access(s: &genom_model::component::Service) -> Vec<Access> {
+    let of = |p: &genom_model::component::Param, write: bool| {
+        // The member as written (`x`, `a.b[2]`): an attribute's parameter
+        // names its ids member.
+        let data = p.data.as_ref()?;
+        let path = data
+            .text
+            .split(['.', '['])
+            .map(|x| x.trim_end_matches(']').trim().to_owned())
+            .filter(|x| !x.is_empty() && x != "::ids")
+            .collect();
+        Some(Access {
+            base: Base::Ids,
+            path,
+            write,
+        })
+    };
+    let inputs = s.inputs.iter().filter_map(|p| of(p, true));
+    inputs
+        .chain(s.outputs.iter().filter_map(|p| of(p, false)))
+        .collect()
 }
 
 fn service_fsm(c: &Component, g: &Genom3Info, sid: ServiceId) -> Fsm {

@@ -233,6 +233,10 @@ impl Builder<'_> {
                     .push(set(self.cph, self.cph_value(sid, n + 1, false)));
             }
             p.edges.push(ok);
+            if codel.copy {
+                // An attribute's ids copy throws nothing.
+                continue;
+            }
             let mut fail = self.ctl_edge(
                 run,
                 0,

@@ -82,12 +82,15 @@ pub(super) enum CtlKind {
     Abort,
 }
 
-/// A control codel (`validate`, a function's codel).
+/// A control codel (`validate`, a function's codel, or an attribute's ids
+/// copy).
 #[derive(Debug, Clone)]
 pub(super) struct CtlCodel {
     pub name: String,
     pub wcet_ns: u64,
     pub key: usize,
+    /// An attribute's ids copy (6.1 step 4): no time, no exception.
+    pub copy: bool,
 }
 
 /// A function or attribute.
@@ -126,6 +129,31 @@ pub(super) struct Access {
     /// The member path below the base.
     pub path: Vec<String>,
     pub write: bool,
+}
+
+impl Access {
+    /// An attribute's ids copy: it writes its inputs' ids members and reads
+    /// its outputs'.
+    fn of_attribute(s: &crate::component::Service) -> Vec<Access> {
+        let member = |p: &crate::component::Param, write: bool| {
+            // The member as the attribute's parameter names it.
+            p.data.as_ref().map(|d| Access {
+                base: "ids".to_owned(),
+                path: d
+                    .text
+                    .split(['.', '[', ']'])
+                    .map(str::trim)
+                    .filter(|x| !x.is_empty() && *x != "::ids")
+                    .map(str::to_owned)
+                    .collect(),
+                write,
+            })
+        };
+        let written = s.inputs.iter().filter_map(|p| member(p, true));
+        written
+            .chain(s.outputs.iter().filter_map(|p| member(p, false)))
+            .collect()
+    }
 }
 
 impl Access {
@@ -418,12 +446,32 @@ fn number_keys(c: &Component, g: &Genom3Info, r: &mut Read) {
                 name: codel.name.name.clone(),
                 wcet_ns: codel.wcet.map_or(0, |w| w.ns),
                 key: keys.len(),
+                copy: false,
             });
             keys.push(Key {
                 owner: KeyOwner::Ctl(sid, list.len() - 1),
                 task: None,
                 is_async: false,
                 access: Access::of(&info.fsm),
+                excl: Vec::new(),
+            });
+        }
+        if g.services
+            .iter()
+            .any(|i| i.service == sid && i.kind == "attribute")
+        {
+            let list = r.ctl_codels.entry(sid).or_default();
+            list.push(CtlCodel {
+                name: "ids-copy".to_owned(),
+                wcet_ns: 0,
+                key: keys.len(),
+                copy: true,
+            });
+            keys.push(Key {
+                owner: KeyOwner::Ctl(sid, list.len() - 1),
+                task: None,
+                is_async: false,
+                access: Access::of_attribute(s),
                 excl: Vec::new(),
             });
         }

@@ -33,8 +33,23 @@ impl TimedEngine<'_> {
                 }
             }));
         }
-        if st.ctl.is_some_and(|c| c.running) {
-            out.extend([TG3Action::CtlEnd(true), TG3Action::CtlEnd(false)]);
+        if let Some(c) = st.ctl.filter(|c| c.running) {
+            out.push(TG3Action::CtlEnd(true));
+            // An attribute's ids copy throws nothing.
+            let copy = self
+                .job_service(c.job)
+                .zip(self.job_codel(c))
+                .is_some_and(|(s, i)| {
+                    self.e
+                        .m
+                        .control_codels
+                        .get(&s)
+                        .and_then(|v| v.get(i))
+                        .is_some_and(|x| x.codel.is_none())
+                });
+            if !copy {
+                out.push(TG3Action::CtlEnd(false));
+            }
         }
         for t in (0..self.e.m.tasks.len()).filter(|&t| self.in_group[t]) {
             if self.period[t].is_some() {

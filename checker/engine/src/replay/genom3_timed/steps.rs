@@ -426,6 +426,9 @@ impl Sim<'_, '_> {
         }
         self.ctl = None;
         match s.outcome.as_deref() {
+            Some("exception") if def.codel.is_none() => {
+                Err("an attribute's ids copy throws no exception".into())
+            }
             Some("exception") => Ok(()),
             Some("ok") if r.next + 1 < codels.len() => {
                 self.ctl = Some(Request {

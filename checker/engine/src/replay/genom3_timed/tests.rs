@@ -70,9 +70,9 @@ fn every_fixture_overrun_replays() {
         }
     }
     // f1b (1, 1), f1b paused (0, 1), f3 (2, 2), f4 (0, 1), f7 free (0, 1),
-    // f7 lock (1, 1), f9 FIFO (1, 1), f9 granularity (2, 2), f9 writers
-    // (0, 2).
-    assert_eq!(replayed, 19);
+    // f7 lock (1, 1), f7 attribute copy (1, 1), f9 FIFO (1, 1), f9
+    // granularity (2, 2), f9 writers (0, 2).
+    assert_eq!(replayed, 21);
 }
 
 fn demo() -> Component {
