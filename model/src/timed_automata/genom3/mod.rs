@@ -501,9 +501,8 @@ impl<'a> Builder<'a> {
             let kept: Vec<usize> = (0..list.len())
                 .filter(|&i| {
                     let k = list[i].key;
-                    let contended = !self.r.keys[k].excl.is_empty()
-                        || self.r.keys.iter().any(|j| j.excl.contains(&k));
-                    contended
+                    !self.r.keys[k].excl.is_empty()
+                        || self.r.keys.iter().any(|j| j.excl.contains(&k))
                 })
                 .collect();
             if !kept.is_empty() {

@@ -219,11 +219,11 @@ fn why_waiting(te: &TimedEngine<'_>, st: &TG3State, t: Option<usize>, k: usize) 
             }
         }
     }
-    if t.is_some() && st.ctl.is_some_and(|c| c.running) {
-        if let Some(j) = te.ctl_codel(st).filter(|&j| te.locks.excludes(k, j)) {
-            let _ = j;
-            return "the control thread runs a codel that holds a lock it needs".to_owned();
-        }
+    let ctl_holds = t.is_some()
+        && st.ctl.is_some_and(|c| c.running)
+        && te.ctl_codel(st).is_some_and(|j| te.locks.excludes(k, j));
+    if ctl_holds {
+        return "the control thread runs a codel that holds a lock it needs".to_owned();
     }
     let ahead: Vec<String> = st
         .queue
