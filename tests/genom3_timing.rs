@@ -133,25 +133,28 @@ fn point_9_the_resource_fifo_delays_a_codel_that_conflicts_with_nothing() {
     assert!(naive_overrunning(&r).is_empty());
     assert_clean_traces(&r);
     // `c` waits behind `b`'s ticket, not for a lock of its own.
+    let waits = lock_waits(&r);
+    let threads: Vec<&str> = waits.iter().map(|w| w.0.as_str()).collect();
+    assert_eq!(threads, ["b", "c"], "{waits:#?}");
+    assert!(waits[1].2.contains("older tickets"), "{}", waits[1].2);
+}
+
+/// The `lock-wait` steps of the first overrun's trace: thread, codel, text.
+fn lock_waits(r: &CheckResult) -> Vec<(String, String, String)> {
     let d = r
         .diagnostics
         .iter()
         .find(|d| d.code == Code::ThreadOverrun)
         .unwrap();
     let t = d.trace.as_ref().unwrap();
-    let waits: Vec<&str> = t
-        .steps
+    t.steps
         .iter()
         .filter(|s| s.event == Event::LockWait)
-        .filter_map(|s| s.thread.as_deref())
-        .collect();
-    assert_eq!(waits, ["b", "c"], "{t:#?}");
-    let c_wait = t
-        .steps
-        .iter()
-        .find(|s| s.event == Event::LockWait && s.thread.as_deref() == Some("c"))
-        .unwrap();
-    assert!(c_wait.text.contains("older tickets"), "{}", c_wait.text);
+        .map(|s| {
+            let text = |x: &Option<String>| x.clone().unwrap_or_default();
+            (text(&s.thread), text(&s.codel), s.text.clone())
+        })
+        .collect()
 }
 
 #[test]
@@ -160,27 +163,10 @@ fn point_7_an_attribute_ids_copy_takes_its_ticket_in_the_fifo() {
     assert_eq!(overrunning(&r), ["c"]);
     assert!(naive_overrunning(&r).is_empty());
     assert_clean_traces(&r);
-    let d = r
-        .diagnostics
-        .iter()
-        .find(|d| d.code == Code::ThreadOverrun)
-        .unwrap();
-    let t = d.trace.as_ref().unwrap();
     // The copy waits for `fa`, `c` waits behind the copy's ticket.
-    let waits: Vec<(Option<&str>, Option<&str>)> = t
-        .steps
-        .iter()
-        .filter(|s| s.event == Event::LockWait)
-        .map(|s| (s.thread.as_deref(), s.codel.as_deref()))
-        .collect();
-    assert_eq!(
-        waits,
-        [
-            (Some("control"), Some("ids-copy")),
-            (Some("c"), Some("start"))
-        ],
-        "{t:#?}"
-    );
+    let waits = lock_waits(&r);
+    let who: Vec<(&str, &str)> = waits.iter().map(|w| (w.0.as_str(), w.1.as_str())).collect();
+    assert_eq!(who, [("control", "ids-copy"), ("c", "start")], "{waits:#?}");
 }
 
 #[test]

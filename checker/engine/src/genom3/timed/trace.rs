@@ -143,60 +143,59 @@ fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Actio
             }
             s
         }
-        TG3Action::Begin(who, v) => {
-            let state = Inst::unpack(v).map_or(0, |i| i.state);
-            let owner = who.owner();
-            let st = &m.fsm(owner).states[usize::from(state)];
+        TG3Action::Begin(who, v) => task_codel_step(te, who, v, Event::CodelStart, |st| {
             let wcet = st
                 .wcet_ns
                 .map_or("no WCET".to_owned(), |w| format!("WCET {}", format_ns(w)));
-            let mut s = TraceStep::new(
-                Event::CodelStart,
-                format!(
-                    "{} begins codel `{}` in state `{}` ({wcet})",
-                    crate::genom3::analysis::describe(&te.e, owner),
-                    st.function,
-                    st.name
-                ),
-            );
-            s.thread = Some(m.tasks[m.task_of(owner)].name.clone());
-            if let Who::Act(x) = who {
-                s.service = Some(m.activity_name(usize::from(x)).to_owned());
-            }
-            s.codel = Some(st.name.clone());
-            s.span = Some(st.span);
-            s
-        }
+            format!(
+                "begins codel `{}` in state `{}` ({wcet})",
+                st.function, st.name
+            )
+        }),
         TG3Action::End(who, v, o) => {
             let state = Inst::unpack(v).map_or(0, |i| i.state);
             codel_text(&te.e, who.owner(), state, o, &before.g, &after.g)
         }
-        TG3Action::Ticket(who, v) => {
-            let state = Inst::unpack(v).map_or(0, |i| i.state);
+        TG3Action::Ticket(who, v) => task_codel_step(te, who, v, Event::LockWait, |st| {
             let owner = who.owner();
-            let st = &m.fsm(owner).states[usize::from(state)];
-            let t = m.task_of(owner);
-            let k = te.locks.key(owner, state);
-            let mut s = TraceStep::new(
-                Event::LockWait,
-                format!(
-                    "{} takes a ticket for codel `{}` in state `{}` and waits: {}",
-                    crate::genom3::analysis::describe(&te.e, owner),
-                    st.function,
-                    st.name,
-                    why_waiting(te, before, Some(t), k)
-                ),
-            );
-            s.thread = Some(m.tasks[t].name.clone());
-            if let Who::Act(x) = who {
-                s.service = Some(m.activity_name(usize::from(x)).to_owned());
-            }
-            s.codel = Some(st.name.clone());
-            s.span = Some(st.span);
-            s
-        }
+            let k = te.locks.key(owner, Inst::unpack(v).map_or(0, |i| i.state));
+            format!(
+                "takes a ticket for codel `{}` in state `{}` and waits: {}",
+                st.function,
+                st.name,
+                why_waiting(te, before, Some(m.task_of(owner)), k)
+            )
+        }),
         TG3Action::CtlTicket => ctl_step(te, before, a),
     }
+}
+
+/// A step of instance `v` of `who` about the codel of its state: `what`
+/// says what happens to it, after the instance's description.
+fn task_codel_step(
+    te: &TimedEngine<'_>,
+    who: Who,
+    v: u16,
+    event: Event,
+    what: impl Fn(&crate::genom3::machine::FsmState) -> String,
+) -> TraceStep {
+    let m = te.m();
+    let owner = who.owner();
+    let state = Inst::unpack(v).map_or(0, |i| i.state);
+    let st = &m.fsm(owner).states[usize::from(state)];
+    let text = format!(
+        "{} {}",
+        crate::genom3::analysis::describe(&te.e, owner),
+        what(st)
+    );
+    let mut s = TraceStep::new(event, text);
+    s.thread = Some(m.tasks[m.task_of(owner)].name.clone());
+    if let Who::Act(x) = who {
+        s.service = Some(m.activity_name(usize::from(x)).to_owned());
+    }
+    s.codel = Some(st.name.clone());
+    s.span = Some(st.span);
+    s
 }
 
 /// Why a codel (key `k`) of thread `t` (`None`: control) cannot begin in
