@@ -135,6 +135,16 @@ fn point_9_the_resource_fifo_delays_a_codel_that_conflicts_with_nothing() {
     assert!(waits[1].2.contains("older tickets"), "{}", waits[1].2);
 }
 
+/// The trace of the first `thread-overrun`.
+fn first_overrun_trace(r: &CheckResult) -> &genom_model::trace::Trace {
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun)
+        .unwrap();
+    d.trace.as_ref().unwrap()
+}
+
 /// Checks that in fixture `name` only task `c` overruns, only because of
 /// GenoM3's FIFO (the naive reading finds nothing), with traces that
 /// replay; the `lock-wait` steps of its trace: thread, codel, text.
@@ -143,12 +153,7 @@ fn only_c_overruns_behind_tickets(name: &str) -> Vec<(String, String, String)> {
     assert_eq!(overrunning(&r), ["c"]);
     assert!(naive_overrunning(&r).is_empty());
     assert_clean_traces(&r);
-    let d = r
-        .diagnostics
-        .iter()
-        .find(|d| d.code == Code::ThreadOverrun)
-        .unwrap();
-    let t = d.trace.as_ref().unwrap();
+    let t = first_overrun_trace(&r);
     t.steps
         .iter()
         .filter(|s| s.event == Event::LockWait)
@@ -218,12 +223,7 @@ fn uavatt_overruns_behind_the_log_function_and_the_trace_replays() {
     let r = check_path(&file, &inputs, &CheckOptions::new()).unwrap();
     assert_eq!(overrunning(&r), ["main"]);
     assert_clean_traces(&r);
-    let d = r
-        .diagnostics
-        .iter()
-        .find(|d| d.code == Code::ThreadOverrun)
-        .unwrap();
-    let t = d.trace.as_ref().unwrap();
+    let t = first_overrun_trace(&r);
     assert!(
         t.steps
             .iter()
