@@ -163,18 +163,32 @@ impl Layout {
         }
     }
 
-    /// Decodes `words` into `cfg`, reusing its vectors.
+    /// Decodes `words` into `cfg`, reusing its vectors (written in place
+    /// when they already have the members' length, as in the explorer).
     pub(super) fn decode(&self, words: &[u64], cfg: &mut Config) {
         cfg.init_done = self.init_done.read(words) == 1;
-        cfg.main.clear();
-        cfg.pending.clear();
-        cfg.timed_out.clear();
-        for slots in &self.members {
+        let n = self.members.len();
+        for v in [cfg.main.len(), cfg.pending.len(), cfg.timed_out.len()] {
+            if v != n {
+                cfg.main.resize(n, IDLE);
+                cfg.pending.resize(n, None);
+                cfg.timed_out.resize(n, false);
+                break;
+            }
+        }
+        for (slots, (main, (pending, timed_out))) in self.members.iter().zip(
             cfg.main
-                .push(PosId::try_from(slots.pos.read(words)).unwrap_or(IDLE));
-            let pending = slots.pending.read(words) == 1;
-            cfg.pending.push(pending.then(|| slots.wait.read(words)));
-            cfg.timed_out.push(slots.timed_out.read(words) == 1);
+                .iter_mut()
+                .zip(cfg.pending.iter_mut().zip(cfg.timed_out.iter_mut())),
+        ) {
+            let word = slots.word.and_then(|at| words.get(at)).copied();
+            let read = |f: Field| match word {
+                Some(w) => (w >> f.shift) & f.mask,
+                None => f.read(words),
+            };
+            *main = PosId::try_from(read(slots.pos)).unwrap_or(IDLE);
+            *pending = (read(slots.pending) == 1).then(|| read(slots.wait));
+            *timed_out = read(slots.timed_out) == 1;
         }
     }
 }
