@@ -124,7 +124,10 @@ impl Table {
     /// The stored ids, in slot order.
     pub(super) fn ids(&self) -> impl Iterator<Item = StateId> + '_ {
         let mask = self.id_mask();
-        self.slots.iter().filter(|&&s| s != 0).map(move |s| (s & mask) - 1)
+        self.slots
+            .iter()
+            .filter(|&&s| s != 0)
+            .map(move |s| (s & mask) - 1)
     }
 
     /// A table half again as large, holding `entries` (distinct states,
@@ -171,7 +174,10 @@ mod tests {
         assert!(compared < 100, "{compared} comparisons");
         for (id, &k) in keys.iter().enumerate() {
             let found = t.probe(hash(&[k]), |other| keys[other as usize] == k);
-            assert!(matches!(found, Probe::Found(_, i) if i as usize == id), "{k}");
+            assert!(
+                matches!(found, Probe::Found(_, i) if i as usize == id),
+                "{k}"
+            );
         }
         let absent = t.probe(hash(&[99_999]), |other| keys[other as usize] == 99_999);
         assert!(matches!(absent, Probe::Vacant(_)));
