@@ -97,7 +97,7 @@ impl Table {
                 return Probe::Vacant(at);
             }
             if slot & !mask == tag {
-                let id = (slot & mask) - 1;
+                let id = (slot & mask).wrapping_sub(1);
                 if same(id) {
                     return Probe::Found(at, id);
                 }
@@ -112,7 +112,7 @@ impl Table {
     /// Puts `id` (of hash `hash`) in `slot`, found by [`Self::probe`] (a
     /// vacant slot, or the slot of a state `id` replaces).
     pub(super) fn set(&mut self, slot: usize, hash: u64, id: StateId) {
-        self.slots[slot] = self.tag(hash) | ((id + 1) & self.id_mask());
+        self.slots[slot] = self.tag(hash) | (id.saturating_add(1) & self.id_mask());
     }
 
     /// Whether a store of `states` states must grow the table before it
@@ -127,7 +127,7 @@ impl Table {
         self.slots
             .iter()
             .filter(|&&s| s != 0)
-            .map(move |s| (s & mask) - 1)
+            .map(move |s| (s & mask).wrapping_sub(1))
     }
 
     /// A table half again as large, holding `entries` (distinct states,
