@@ -1,17 +1,21 @@
 //! Compact storage of explored states: every state is a fixed number of
-//! 64-bit words in one arena, deduplicated by a hash table of `u32` indices
-//! (no per-state allocation), with the parent and the action that first
-//! reached it, so that counterexamples are replayable paths.
+//! 64-bit words in one arena, deduplicated by a hash table of `u32` slots
+//! (an index and a hash tag, [`table`]), with the parent and the action
+//! that first reached it, so that counterexamples are replayable paths.
+//! The arena and the per-state columns grow in chunks ([`column`]): no
+//! per-state allocation, no copy on growth, and the bytes counted per state
+//! are about the bytes used.
 //!
 //! A state may also carry a *zone* (the timed engine's clock zone): states
 //! with the same words are chained, and a new state whose zone is included
 //! in a stored one is not new (inclusion checking in the passed list). For
 //! untimed models the zone is `()` and every same-words state subsumes.
 
-use std::hash::BuildHasher;
+mod column;
+mod table;
 
-use hashbrown::HashTable;
-use rustc_hash::FxBuildHasher;
+use column::Column;
+use table::{Probe, Table, hash};
 
 /// Index of a stored state.
 pub type StateId = u32;
@@ -53,18 +57,19 @@ const NONE: StateId = StateId::MAX;
 /// The stored states of one exploration.
 pub struct Store<A, Z = ()> {
     width: usize,
-    words: Vec<u64>,
-    zones: Vec<Z>,
+    words: Column<u64>,
+    zones: Column<Z>,
     /// Heap bytes owned by the stored zones.
     zone_heap: usize,
-    /// The previous state with the same words.
-    same: Vec<StateId>,
-    /// States whose zone a later state includes: no need to expand them.
-    covered: Vec<bool>,
-    table: HashTable<StateId>,
-    parents: Vec<StateId>,
-    via: Vec<Option<A>>,
-    hasher: FxBuildHasher,
+    /// The previous state with the same words (chained stores only).
+    same: Column<StateId>,
+    /// States whose zone a later state includes: no need to expand them
+    /// (chained stores only).
+    covered: Column<bool>,
+    /// For each stored words, the newest state with them.
+    table: Table,
+    parents: Column<StateId>,
+    via: Column<Option<A>>,
 }
 
 impl<A, Z> std::fmt::Debug for Store<A, Z> {
@@ -79,33 +84,59 @@ impl<A, Z> std::fmt::Debug for Store<A, Z> {
 impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// An empty store of states `width` words wide.
     pub fn new(width: usize) -> Self {
+        let width = width.max(1);
         Store {
-            width: width.max(1),
-            words: Vec::new(),
-            zones: Vec::new(),
+            width,
+            words: Column::new(width),
+            zones: Column::new(1),
             zone_heap: 0,
-            same: Vec::new(),
-            covered: Vec::new(),
-            table: HashTable::new(),
-            parents: Vec::new(),
-            via: Vec::new(),
-            hasher: FxBuildHasher,
+            same: Column::new(1),
+            covered: Column::new(1),
+            table: Table::new(),
+            parents: Column::new(1),
+            via: Column::new(1),
         }
-    }
-
-    fn hash(&self, key: &[u64]) -> u64 {
-        self.hasher.hash_one(key)
     }
 
     /// The words of state `id`.
     pub fn get(&self, id: StateId) -> &[u64] {
-        let start = id as usize * self.width;
-        &self.words[start..start + self.width]
+        self.words.get(id as usize)
     }
 
     /// The zone of state `id`.
     pub fn zone(&self, id: StateId) -> &Z {
-        &self.zones[id as usize]
+        &self.zones.get(id as usize)[0]
+    }
+
+    /// Looks `key` (of hash `hash`) up in the table.
+    fn probe(&self, key: &[u64], hash: u64) -> Probe {
+        let words = &self.words;
+        self.table
+            .probe(hash, |id| same_words(words.get(id as usize), key))
+    }
+
+    /// Grows the table when one more state would overfill it.
+    fn reserve(&mut self) {
+        if !self.table.full(self.len()) {
+            return;
+        }
+        let words = &self.words;
+        self.table = if Z::TRIVIAL {
+            // Every state is in the table: rehash them in id order, reading
+            // the arena sequentially.
+            self.table.grown(
+                (0..)
+                    .zip(words.states())
+                    .map(|(id, w): (StateId, &[u64])| (id, hash(w))),
+            )
+        } else {
+            let heads: Vec<StateId> = self.table.ids().collect();
+            self.table.grown(
+                heads
+                    .into_iter()
+                    .map(|id| (id, hash(words.get(id as usize)))),
+            )
+        };
     }
 
     /// Inserts a state reached from `parent` by `via`; returns its id and
@@ -117,104 +148,69 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         parent: Option<(StateId, A)>,
     ) -> (StateId, bool) {
         debug_assert_eq!(key.len(), self.width);
-        let hash = self.hash(key);
+        self.reserve();
+        let hash = hash(key);
+        let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);
+        let probe = self.probe(key, hash);
         if Z::TRIVIAL {
-            return self.insert_trivial(key, hash, zone, parent);
+            return match probe {
+                Probe::Found(_, found) => (found, false),
+                Probe::Vacant(slot) => {
+                    self.table.set(slot, hash, id);
+                    self.push(key, zone, parent);
+                    (id, true)
+                }
+            };
         }
-        let head = self.head(key, hash);
-        let mut cur = head.unwrap_or(NONE);
+        let (slot, head) = match probe {
+            Probe::Found(slot, head) => (slot, head),
+            Probe::Vacant(slot) => (slot, NONE),
+        };
+        let mut cur = head;
         while cur != NONE {
-            if zone.subsumed_by(&self.zones[cur as usize]) {
+            if zone.subsumed_by(self.zone(cur)) {
                 return (cur, false);
             }
-            cur = self.same[cur as usize];
+            cur = self.same.get(cur as usize)[0];
         }
         // The new zone may include stored ones: those need no expansion.
-        let mut cur = head.unwrap_or(NONE);
+        let mut cur = head;
         while cur != NONE {
-            if !self.covered[cur as usize] && self.zones[cur as usize].subsumed_by(&zone) {
-                self.covered[cur as usize] = true;
+            let covered = self.zone(cur).subsumed_by(&zone);
+            if let Some(flag) = self.covered.first_mut(cur as usize).filter(|_| covered) {
+                *flag = true;
             }
-            cur = self.same[cur as usize];
+            cur = self.same.get(cur as usize)[0];
         }
-        let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
-        self.words.extend_from_slice(key);
+        self.table.set(slot, hash, id);
         self.zone_heap += zone.heap_bytes();
-        self.zones.push(zone);
         self.covered.push(false);
-        self.same.push(head.unwrap_or(NONE));
-        match head {
-            Some(_) => {
-                if let Some(entry) = self
-                    .table
-                    .find_mut(hash, |&other| other == head.unwrap_or(NONE))
-                {
-                    *entry = id;
-                }
-            }
-            None => {
-                let (words, width, hasher) = (&self.words, self.width, &self.hasher);
-                self.table.insert_unique(hash, id, |&other| {
-                    hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width])
-                });
-            }
-        }
-        self.parents.push(parent.map_or(id, |(p, _)| p));
-        self.via.push(parent.map(|(_, a)| a));
+        self.same.push(head);
+        self.push(key, zone, parent);
         (id, true)
     }
 
-    /// [`Self::insert`] when zones are trivial: one probe of the table,
-    /// which finds the stored state or the slot of the new one.
-    fn insert_trivial(
-        &mut self,
-        key: &[u64],
-        hash: u64,
-        zone: Z,
-        parent: Option<(StateId, A)>,
-    ) -> (StateId, bool) {
-        let id = StateId::try_from(self.parents.len()).unwrap_or(StateId::MAX);
-        let (words, width, hasher) = (&self.words, self.width, &self.hasher);
-        let entry = self.table.entry(
-            hash,
-            |&other| {
-                same_words(
-                    &words[other as usize * width..(other as usize + 1) * width],
-                    key,
-                )
-            },
-            |&other| hasher.hash_one(&words[other as usize * width..(other as usize + 1) * width]),
-        );
-        match entry {
-            hashbrown::hash_table::Entry::Occupied(found) => (*found.get(), false),
-            hashbrown::hash_table::Entry::Vacant(slot) => {
-                slot.insert(id);
-                self.words.extend_from_slice(key);
-                self.zones.push(zone);
-                self.parents.push(parent.map_or(id, |(p, _)| p));
-                self.via.push(parent.map(|(_, a)| a));
-                (id, true)
-            }
-        }
+    /// Appends a new state's words, zone, parent and action.
+    fn push(&mut self, key: &[u64], zone: Z, parent: Option<(StateId, A)>) {
+        let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);
+        self.words.push_slice(key);
+        self.zones.push(zone);
+        self.parents.push(parent.map_or(id, |(p, _)| p));
+        self.via.push(parent.map(|(_, a)| a));
     }
 
     /// The newest stored state with these words, if any (for untimed models,
     /// the only one).
     pub fn find(&self, key: &[u64]) -> Option<StateId> {
-        self.head(key, self.hash(key))
-    }
-
-    /// The newest stored state with these words (`hash` is theirs): the
-    /// head of their chain.
-    fn head(&self, key: &[u64], hash: u64) -> Option<StateId> {
-        let (words, width) = (&self.words, self.width);
-        let eq = |&id: &StateId| words[id as usize * width..(id as usize + 1) * width] == *key;
-        self.table.find(hash, eq).copied()
+        match self.probe(key, hash(key)) {
+            Probe::Found(_, id) => Some(id),
+            Probe::Vacant(_) => None,
+        }
     }
 
     /// Whether a later state's zone includes this one's.
     pub fn is_covered(&self, id: StateId) -> bool {
-        self.covered.get(id as usize).copied().unwrap_or(false)
+        self.covered.first(id as usize).copied().unwrap_or(false)
     }
 
     /// Number of stored states.
@@ -224,16 +220,21 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
 
     /// True when empty.
     pub fn is_empty(&self) -> bool {
-        self.parents.is_empty()
+        self.parents.len() == 0
+    }
+
+    /// The action that first reached `id` (`None` for an initial state).
+    fn via(&self, id: StateId) -> Option<A> {
+        self.via.first(id as usize).copied().flatten()
     }
 
     /// The actions from an initial state to `id`.
     pub fn path(&self, id: StateId) -> Vec<A> {
         let mut out = Vec::new();
         let mut cur = id;
-        while let Some(a) = self.via.get(cur as usize).copied().flatten() {
+        while let Some(a) = self.via(cur) {
             out.push(a);
-            cur = self.parents[cur as usize];
+            cur = self.parents.get(cur as usize)[0];
         }
         out.reverse();
         out
@@ -242,8 +243,8 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// The initial state a path to `id` starts from.
     pub fn root(&self, id: StateId) -> StateId {
         let mut cur = id;
-        while self.via.get(cur as usize).copied().flatten().is_some() {
-            cur = self.parents[cur as usize];
+        while self.via(cur).is_some() {
+            cur = self.parents.get(cur as usize)[0];
         }
         cur
     }
@@ -261,11 +262,11 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// Approximate total bytes used.
     pub fn bytes(&self) -> usize {
         self.words.capacity() * 8
-            + self.table.capacity() * (size_of::<StateId>() + 1)
+            + self.table.capacity() * size_of::<u32>()
             + (self.parents.capacity() + self.same.capacity()) * size_of::<StateId>()
             + self.covered.capacity()
             + self.via.capacity() * size_of::<Option<A>>()
-            + self.zones.capacity() * size_of::<Z>()
+            + self.zones.capacity().saturating_mul(size_of::<Z>())
             + self.zone_heap
     }
 }
@@ -351,5 +352,32 @@ mod tests {
         assert!(!s.insert(&[7], (6, 8), Some((b, 'z'))).1);
         assert!(s.insert(&[8], (3, 4), None).1);
         assert_eq!(*s.zone(b), (1, 9));
+    }
+
+    #[test]
+    fn long_chains_outgrow_the_table_and_stay_found() {
+        // Many states share their words (incomparable zones): the table
+        // holds one entry per words but every id must fit its slots.
+        let mut s: Store<char, (u32, u32)> = Store::new(2);
+        let n = 3000;
+        for k in 0..n {
+            for w in 0..3u64 {
+                let (_, new) = s.insert(&[w, 7], (k, k), None);
+                assert!(new);
+            }
+        }
+        assert_eq!(s.len(), 3 * n as usize);
+        for w in 0..3u64 {
+            let newest = s.find(&[w, 7]).unwrap();
+            assert_eq!(s.get(newest), &[w, 7]);
+            assert_eq!(*s.zone(newest), (n - 1, n - 1));
+            assert!(!s.insert(&[w, 7], (5, 5), None).1);
+            assert!(!s.is_covered(newest));
+        }
+        // A zone including all of them covers them.
+        let (all, new) = s.insert(&[1, 7], (0, n), None);
+        assert!(new && !s.is_covered(all));
+        assert!(s.is_covered(1) && !s.is_covered(0));
+        assert_eq!(s.find(&[9, 9]), None);
     }
 }

@@ -1,7 +1,8 @@
 //! The bit layout of an encoded configuration: where each member's
 //! position, pending flag, wait mask and watchdog flag lie in the state's
 //! words, computed once per system so that encoding and decoding are one
-//! shift and mask per field (no field straddles two words).
+//! shift and mask per field (no field straddles two words), and a member
+//! whose fields share a word is encoded with one store.
 
 use genom_model::behaviour::{IDLE, PosId};
 
@@ -24,34 +25,6 @@ impl Field {
     }
 }
 
-/// Writes fields in layout order, building each word in a register (one
-/// store per word rather than a read-modify-write per field).
-struct Writer<'w> {
-    words: &'w mut [u64],
-    word: usize,
-    acc: u64,
-}
-
-impl Writer<'_> {
-    fn write(&mut self, f: Field, value: u64) {
-        if f.mask == 0 {
-            return;
-        }
-        if f.word != self.word {
-            self.flush();
-            self.word = f.word;
-        }
-        self.acc |= (value & f.mask) << f.shift;
-    }
-
-    fn flush(&mut self) {
-        if let Some(w) = self.words.get_mut(self.word) {
-            *w = self.acc;
-        }
-        self.acc = 0;
-    }
-}
-
 /// The fields of one member.
 #[derive(Debug, Clone, Copy, Default)]
 struct Slots {
@@ -60,6 +33,25 @@ struct Slots {
     pending: Field,
     wait: Field,
     timed_out: Field,
+    /// The word holding all the member's present fields, if one does
+    /// (then its fields are or-ed into a register and stored at once).
+    word: Option<usize>,
+}
+
+impl Slots {
+    /// The member's fields, shifted in place and or-ed together (an absent
+    /// field has mask 0 and adds nothing).
+    fn packed(&self, pos: u64, pending: Option<u64>, timed_out: bool) -> u64 {
+        let put = |f: Field, v: u64| (v & f.mask) << f.shift;
+        put(self.pos, pos)
+            | put(self.pending, u64::from(pending.is_some()))
+            | put(self.wait, pending.unwrap_or(0))
+            | put(self.timed_out, u64::from(timed_out))
+    }
+
+    fn fields(&self) -> [Field; 4] {
+        [self.pos, self.pending, self.wait, self.timed_out]
+    }
 }
 
 /// Where every field of a configuration lies.
@@ -116,12 +108,19 @@ impl Layout {
                     (Field::default(), Field::default())
                 };
                 let timed_out = p.place(u32::from(m.watchdog));
-                Slots {
+                let mut slots = Slots {
                     pos,
                     pending,
                     wait,
                     timed_out,
+                    word: None,
+                };
+                let mut present = slots.fields().into_iter().filter(|f| f.mask != 0);
+                let first = present.next().map_or(0, |f| f.word);
+                if present.all(|f| f.word == first) {
+                    slots.word = Some(first);
                 }
+                slots
             })
             .collect();
         Layout {
@@ -135,38 +134,61 @@ impl Layout {
     pub(super) fn encode(&self, cfg: &Config, out: &mut Vec<u64>) {
         let start = out.len();
         out.resize(start + self.width, 0);
-        let mut w = Writer {
-            words: &mut out[start..],
-            word: 0,
-            acc: 0,
+        let words = &mut out[start..];
+        let or = |words: &mut [u64], f: Field, v: u64| {
+            if let Some(w) = words.get_mut(f.word) {
+                *w |= (v & f.mask) << f.shift;
+            }
         };
-        w.write(self.init_done, u64::from(cfg.init_done));
+        or(words, self.init_done, u64::from(cfg.init_done));
         for ((slots, &pos), (&pending, &timed_out)) in self
             .members
             .iter()
             .zip(&cfg.main)
             .zip(cfg.pending.iter().zip(&cfg.timed_out))
         {
-            w.write(slots.pos, u64::from(pos));
-            w.write(slots.pending, u64::from(pending.is_some()));
-            w.write(slots.wait, pending.unwrap_or(0));
-            w.write(slots.timed_out, u64::from(timed_out));
+            match slots.word {
+                Some(at) => {
+                    if let Some(w) = words.get_mut(at) {
+                        *w |= slots.packed(u64::from(pos), pending, timed_out);
+                    }
+                }
+                None => {
+                    or(words, slots.pos, u64::from(pos));
+                    or(words, slots.pending, u64::from(pending.is_some()));
+                    or(words, slots.wait, pending.unwrap_or(0));
+                    or(words, slots.timed_out, u64::from(timed_out));
+                }
+            }
         }
-        w.flush();
     }
 
-    /// Decodes `words` into `cfg`, reusing its vectors.
+    /// Decodes `words` into `cfg`, reusing its vectors (written in place
+    /// when they already have the members' length, as in the explorer).
     pub(super) fn decode(&self, words: &[u64], cfg: &mut Config) {
         cfg.init_done = self.init_done.read(words) == 1;
-        cfg.main.clear();
-        cfg.pending.clear();
-        cfg.timed_out.clear();
-        for slots in &self.members {
+        let n = self.members.len();
+        for v in [cfg.main.len(), cfg.pending.len(), cfg.timed_out.len()] {
+            if v != n {
+                cfg.main.resize(n, IDLE);
+                cfg.pending.resize(n, None);
+                cfg.timed_out.resize(n, false);
+                break;
+            }
+        }
+        for (slots, (main, (pending, timed_out))) in self.members.iter().zip(
             cfg.main
-                .push(PosId::try_from(slots.pos.read(words)).unwrap_or(IDLE));
-            let pending = slots.pending.read(words) == 1;
-            cfg.pending.push(pending.then(|| slots.wait.read(words)));
-            cfg.timed_out.push(slots.timed_out.read(words) == 1);
+                .iter_mut()
+                .zip(cfg.pending.iter_mut().zip(cfg.timed_out.iter_mut())),
+        ) {
+            let word = slots.word.and_then(|at| words.get(at)).copied();
+            let read = |f: Field| match word {
+                Some(w) => (w >> f.shift) & f.mask,
+                None => f.read(words),
+            };
+            *main = PosId::try_from(read(slots.pos)).unwrap_or(IDLE);
+            *pending = (read(slots.pending) == 1).then(|| read(slots.wait));
+            *timed_out = read(slots.timed_out) == 1;
         }
     }
 }

@@ -303,7 +303,11 @@ impl<'a> System<'a> {
     /// Starts every pending instance that can start (step 7), until none can.
     pub(crate) fn closure(&self, cfg: &mut Config, ev: &mut Option<&mut Vec<TraceStep>>) {
         loop {
-            let ready = (0..self.members.len()).find(|&i| self.can_start(cfg, i));
+            // Only a pending instance with nothing to wait for and no main
+            // instance can start: test that first, it rules out most.
+            let ready = (cfg.pending.iter().zip(&cfg.main))
+                .position(|(&p, &m)| p == Some(0) && m == IDLE)
+                .and_then(|first| (first..self.members.len()).find(|&i| self.can_start(cfg, i)));
             let Some(i) = ready else { return };
             cfg.pending[i] = None;
             let s = self.members[i].service;
