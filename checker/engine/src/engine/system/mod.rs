@@ -150,6 +150,12 @@ pub trait Reduce: std::fmt::Debug {
     /// to the front and returns its length; `actions.len()` when there is
     /// none smaller.
     fn stubborn(&self, sys: &System<'_>, cfg: &Config, actions: &mut [Action]) -> usize;
+    /// Whether every fact the analysis reads has been found in the states
+    /// given to [`Self::stubborn`] so far (exploring further changes
+    /// nothing; default: never).
+    fn finished(&self) -> bool {
+        false
+    }
 }
 
 impl<'a> System<'a> {
@@ -238,6 +244,22 @@ impl<'a> System<'a> {
     /// included when it stops itself).
     pub fn stops_of(&self, i: usize) -> &[usize] {
         &self.members[i].stops
+    }
+
+    /// Member indices whose instances delay member `i` (its `delayers`).
+    pub fn delayers_of(&self, i: usize) -> &[usize] {
+        &self.members[i].delayers
+    }
+
+    /// Member indices whose instances make member `i`'s requests rejected.
+    pub fn forbidders_of(&self, i: usize) -> &[usize] {
+        &self.members[i].forbidders
+    }
+
+    /// Whether member `i` lists itself in `stops` (its requests are
+    /// accepted while it has an instance).
+    pub fn stops_itself(&self, i: usize) -> bool {
+        self.members[i].self_stop
     }
 
     /// The component's init service.

@@ -65,6 +65,10 @@ impl Model for System<'_> {
         !(self.pre_init && cfg.init_done)
     }
 
+    fn finished(&self) -> bool {
+        self.reduction.as_ref().is_some_and(|r| r.finished())
+    }
+
     fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
         match &self.reduction {
             Some(r) => r.stubborn(self, cfg, actions),

@@ -1,0 +1,281 @@
+//! The static tables of the partial-order reduction: per member, what its
+//! steps write and read (*footprints*, as sets of members), and from them
+//! which steps may interfere with which (see the header of
+//! [`super`] for how they are used).
+//!
+//! Sets of members are bit masks (`u64`): the reduction is off for systems
+//! of more than 64 members.
+
+use genom_model::behaviour::{Effect, Position};
+use genom_model::component::CodelId;
+
+use crate::engine::system::{System, conflict};
+
+/// A set of member indices.
+pub(super) type Set = u64;
+
+/// The set holding member `i` alone.
+pub(super) fn bit(i: usize) -> Set {
+    1u64 << i
+}
+
+/// The members of a set, in increasing order.
+pub(super) fn members(mut s: Set) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        if s == 0 {
+            return None;
+        }
+        let i = s.trailing_zeros() as usize;
+        s &= s - 1;
+        Some(i)
+    })
+}
+
+/// What a step may write and read: the members whose instance (position,
+/// pending instance, wait mask) it may change, and those whose instance
+/// it reads.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Footprint {
+    pub(super) writes: Set,
+    pub(super) reads: Set,
+}
+
+impl Footprint {
+    /// Whether two steps with these footprints may not commute: one writes
+    /// what the other reads or writes.
+    fn interferes(self, other: Footprint) -> bool {
+        self.writes & (other.writes | other.reads) != 0 || other.writes & self.reads != 0
+    }
+}
+
+/// The static facts about the members of one system.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Tables {
+    /// Per member: the members that list it in `stops`.
+    pub(super) stoppers: Vec<Set>,
+    /// Per member: the members its instances forbid (their requests are
+    /// rejected while it has one).
+    pub(super) forbidees: Vec<Set>,
+    /// Per member: the other members on its thread.
+    pub(super) mates: Vec<Set>,
+    /// Per member: it has no start codel (it ends as soon as it starts).
+    pub(super) no_start: Vec<bool>,
+    /// Per codel (by id): the other members with a codel that conflicts
+    /// with it (beginning either locks the other out).
+    pub(super) lockers: Vec<Set>,
+    /// Per codel (by id): the members whose control codel conflicts with
+    /// it (running it rejects nothing but delays their requests).
+    pub(super) lockees: Vec<Set>,
+    /// Per member: the footprint of its request (interrupts, start, and
+    /// what ending the interrupted instances may start).
+    pub(super) request: Vec<Footprint>,
+    /// Per member: the footprint of its codel steps at any position (its
+    /// own instance and, when it may end, what ending may start).
+    pub(super) steps: Vec<Footprint>,
+    /// Per member: the requests (first) and codel steps (second) that may
+    /// interfere with its enabled request.
+    pub(super) request_deps: Vec<(Set, Set)>,
+    /// Per member: the requests and codel steps that may interfere with its
+    /// enabled codel step that may end the instance.
+    pub(super) ending_deps: Vec<(Set, Set)>,
+    /// Some cycle of `delays` among the members: a deadlock may exist.
+    pub(super) deadlock_possible: bool,
+    /// Per member: the members it may starve (open pairs at the start).
+    pub(super) starvable_by: Vec<Set>,
+    /// The members whose request being enabled is a fact (their control
+    /// codel is reached, or, without start codel, they start).
+    pub(super) request_facts: Set,
+}
+
+impl Tables {
+    /// The tables of `sys` (at most 64 members).
+    pub(super) fn new(sys: &System<'_>) -> Self {
+        let c = sys.component();
+        let n = sys.len();
+        let set = |list: &[usize]| list.iter().fold(0, |s, &j| s | bit(j));
+        let stops: Vec<Set> = (0..n).map(|i| set(sys.stops_of(i))).collect();
+        let delayers: Vec<Set> = (0..n).map(|i| set(sys.delayers_of(i))).collect();
+        let forbidders: Vec<Set> = (0..n).map(|i| set(sys.forbidders_of(i))).collect();
+        let transpose = |rel: &[Set]| -> Vec<Set> {
+            (0..n)
+                .map(|t| (0..n).filter(|&k| rel[k] & bit(t) != 0).fold(0, |s, k| s | bit(k)))
+                .collect()
+        };
+        let stoppers = transpose(&stops);
+        let forbidees = transpose(&forbidders);
+        let thread = |i: usize| sys.machine_of(i).thread;
+        let mates: Vec<Set> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .filter(|&j| j != i && thread(i).is_some() && thread(j) == thread(i))
+                    .fold(0, |s, j| s | bit(j))
+            })
+            .collect();
+        let no_start: Vec<bool> = (0..n).map(|i| sys.machine_of(i).start.is_none()).collect();
+        let can_end: Vec<bool> = (0..n)
+            .map(|i| {
+                let m = sys.machine_of(i);
+                m.finish
+                    .iter()
+                    .flatten()
+                    .any(|f| matches!(f.effect, Effect::End(_)))
+            })
+            .collect();
+        let vanish = vanish_cascades(n, &stops, &delayers, &no_start);
+        // Closure reads: starting a member reads the instances of its
+        // delayers and the wait mask of its stops targets.
+        let closure_reads = |s: Set| {
+            members(s).fold(s, |r, k| r | delayers[k] | stops[k])
+        };
+        let request: Vec<Footprint> = (0..n)
+            .map(|x| {
+                let mut writes = bit(x) | stops[x];
+                for t in members(stops[x]) {
+                    writes |= vanish[t];
+                }
+                if no_start[x] {
+                    writes |= vanish[x];
+                }
+                let reads = bit(x) | forbidders[x] | delayers[x] | closure_reads(writes);
+                Footprint { writes, reads }
+            })
+            .collect();
+        let steps: Vec<Footprint> = (0..n)
+            .map(|j| {
+                let writes = bit(j) | if can_end[j] { vanish[j] } else { 0 };
+                let reads = if can_end[j] { closure_reads(writes) } else { bit(j) };
+                Footprint { writes, reads }
+            })
+            .collect();
+        let deps = |f: Footprint| -> (Set, Set) {
+            let r = (0..n)
+                .filter(|&y| f.interferes(request[y]))
+                .fold(0, |s, y| s | bit(y));
+            let m = (0..n)
+                .filter(|&j| f.interferes(steps[j]))
+                .fold(0, |s, j| s | bit(j));
+            (r, m)
+        };
+        let codels = member_codels(sys);
+        let mut lockers = vec![0; c.codels.len()];
+        let mut lockees = vec![0; c.codels.len()];
+        let mut control_lockers = vec![0; n];
+        for &(j, k) in &codels {
+            let uses = sys.codel_uses(k);
+            for &(i, other) in &codels {
+                if i != j && conflict(uses, sys.codel_uses(other)) {
+                    lockers[k.0 as usize] |= bit(i);
+                }
+            }
+            for x in 0..n {
+                if conflict(uses, sys.control_uses(x)) {
+                    lockees[k.0 as usize] |= bit(x);
+                    control_lockers[x] |= bit(j);
+                }
+            }
+        }
+        let request_deps: Vec<(Set, Set)> = (0..n)
+            .map(|x| {
+                let (r, m) = deps(request[x]);
+                (r & !bit(x), m | control_lockers[x])
+            })
+            .collect();
+        let ending_deps: Vec<(Set, Set)> = (0..n)
+            .map(|i| {
+                let (r, m) = deps(steps[i]);
+                (r, m & !bit(i))
+            })
+            .collect();
+        let starvable_by = (0..n)
+            .map(|w| {
+                if sys.machine_of(w).watchdog {
+                    return 0;
+                }
+                // Waiting for an interrupted instance never starves: it
+                // may never end only while active (not interrupted).
+                members(delayers[w])
+                    .filter(|&t| sys.machine_of(t).may_never_end.iter().any(|&b| b))
+                    .fold(0, |s, t| s | bit(t))
+            })
+            .collect();
+        let request_facts = (0..n)
+            .filter(|&i| no_start[i] || c.services[sys.service(i)].control.is_some())
+            .fold(0, |s, i| s | bit(i));
+        Tables {
+            stoppers,
+            forbidees,
+            mates,
+            no_start,
+            lockers,
+            lockees,
+            request,
+            steps,
+            request_deps,
+            ending_deps,
+            deadlock_possible: has_cycle(&delayers),
+            starvable_by,
+            request_facts,
+        }
+    }
+}
+
+/// Per member `t`: the members whose instance may change when `t`'s
+/// instance disappears: those waiting for it or delayed by it may start,
+/// and one without start codel then ends at once, and so on.
+fn vanish_cascades(n: usize, stops: &[Set], delayers: &[Set], no_start: &[bool]) -> Vec<Set> {
+    let direct: Vec<Set> = (0..n)
+        .map(|t| {
+            (0..n)
+                .filter(|&k| (stops[k] | delayers[k]) & bit(t) != 0)
+                .fold(0, |s, k| s | bit(k))
+        })
+        .collect();
+    (0..n)
+        .map(|t| {
+            let mut out = direct[t];
+            let mut todo = direct[t];
+            while todo != 0 {
+                let k = todo.trailing_zeros() as usize;
+                todo &= todo - 1;
+                if no_start[k] {
+                    let more = direct[k] & !out;
+                    out |= more;
+                    todo |= more;
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// Whether the relation (member → its delayers) has a cycle.
+fn has_cycle(rel: &[Set]) -> bool {
+    let n = rel.len();
+    let mut reach = rel.to_vec();
+    for k in 0..n {
+        for i in 0..n {
+            if reach[i] & bit(k) != 0 {
+                reach[i] |= reach[k];
+            }
+        }
+    }
+    (0..n).any(|i| reach[i] & bit(i) != 0)
+}
+
+/// Every codel of every member (control codels excluded), with its member.
+fn member_codels(sys: &System<'_>) -> Vec<(usize, CodelId)> {
+    let mut out = Vec::new();
+    for j in 0..sys.len() {
+        let m = sys.machine_of(j);
+        let mut seen: Vec<CodelId> = Vec::new();
+        for p in &m.positions {
+            if let Some(k) = p.codel().filter(|_| !matches!(p, Position::Idle)) {
+                if !seen.contains(&k) {
+                    seen.push(k);
+                    out.push((j, k));
+                }
+            }
+        }
+    }
+    out
+}
