@@ -192,6 +192,9 @@ pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
                     prefix: &prefix,
                     global: &global,
                 };
+                if reduce && first_try_whole(&whole, &cluster, &mut budget, &mut out) {
+                    continue;
+                }
                 if !(reduce && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
                     let sys = System::new(c, &b, &cluster, false);
                     let sys = if reduce { sys.with_reduction() } else { sys };
@@ -285,6 +288,40 @@ fn explore_cluster(
     );
 }
 
+/// The share of the remaining state budget a first, whole exploration of
+/// a cluster with the partial-order reduction may use: it ends as soon as
+/// every fact the cluster can show is found, which is often early; past
+/// this share the cluster is explored part by part instead.
+const WHOLE_FIRST_SHARE: usize = 4;
+
+/// Explores the cluster whole with the partial-order reduction, within a
+/// share of the budget; `true`, with the results in `out`, when it
+/// finished (the states it stored are charged to the budget either way).
+fn first_try_whole(
+    w: &Whole<'_>,
+    cluster: &[ServiceId],
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> bool {
+    let sys = System::new(w.c, w.b, cluster, false).with_reduction();
+    if sys.too_many_stops() {
+        return false;
+    }
+    let mut share = Limits {
+        max_states: (budget.max_states / WHOLE_FIRST_SHARE).max(1),
+        ..*budget
+    };
+    let mut tmp = Analysis::default();
+    explore_cluster(&sys, w.prefix, w.global, &mut share, &mut tmp);
+    let spent = usize::try_from(tmp.states).unwrap_or(usize::MAX);
+    budget.max_states = budget.max_states.saturating_sub(spent).max(1);
+    if tmp.stopped.is_some() {
+        return false;
+    }
+    out.absorb(tmp);
+    true
+}
+
 /// What every exploration of a cluster shares.
 struct Whole<'w> {
     c: &'w Component,
@@ -320,6 +357,12 @@ fn explore_parts(
     let mut local = *budget;
     for (k, part) in plan.parts.iter().enumerate() {
         let sys = System::with_inputs(w.c, w.b, part, &plan.inputs[k], false);
+        // The last part's graph is not projected: it may stop once every
+        // fact it can show is found.
+        let sys = match plan.interface(k) {
+            [] => sys.with_fact_tracking(),
+            _ => sys,
+        };
         if sys.too_many_stops() {
             return false;
         }

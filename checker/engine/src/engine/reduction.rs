@@ -50,8 +50,11 @@ use tables::{Set, Tables, bit, members};
 /// facts not found yet.
 #[derive(Debug)]
 pub struct Reduction {
-    /// `None`: no reduction (more than 64 members, inputs or watchdogs).
+    /// `None`: neither reduction nor facts (more than 64 members).
     tables: Option<Tables>,
+    /// Stubborn sets are computed (else only the facts are followed: with
+    /// inputs, or watchdogs).
+    stubborn: bool,
     open: RefCell<Open>,
     /// Every fact has been found.
     done: std::cell::Cell<bool>,
@@ -91,7 +94,7 @@ impl Open {
         let n = sys.len();
         let mut codels = vec![false; sys.component().codels.len()];
         let mut unbounded = 0;
-        for i in 0..n {
+        for i in (0..n).filter(|&i| !sys.is_input(i)) {
             let m = sys.machine_of(i);
             for p in m.positions.iter().filter(|p| p.is_running()) {
                 if let Some(k) = p.codel() {
@@ -102,13 +105,18 @@ impl Open {
                 unbounded |= bit(i);
             }
         }
-        let all = (0..n).fold(0, |s, i| s | bit(i));
+        let all = (0..n)
+            .filter(|&i| !sys.is_input(i))
+            .fold(0, |s, i| s | bit(i));
         let mut open = Open {
             requests: t.request_facts,
             starving: t.starvable_by.clone(),
             open_codels: codels.iter().filter(|&&b| b).count(),
             codels,
-            unstarted: (0..n).filter(|&i| !t.no_start[i]).fold(0, |s, i| s | bit(i)),
+            unstarted: (0..n)
+                .filter(|&i| !t.no_start[i])
+                .fold(0, |s, i| s | bit(i))
+                & all,
             unpended: all,
             unbounded,
             deadlock: t.deadlock_possible,
@@ -145,7 +153,18 @@ impl System<'_> {
     /// The same system, explored with partial-order reduction.
     #[must_use]
     pub fn with_reduction(self) -> Self {
-        let r = Reduction::new(&self);
+        let r = Reduction::new(&self, true);
+        self.reduced_by(r)
+    }
+
+    /// The same system, exploring every interleaving but following the
+    /// facts its states show, so that [`Model::finished`] ends the
+    /// exploration once all are found (see [`super::compose`]).
+    ///
+    /// [`Model::finished`]: super::explore::Model::finished
+    #[must_use]
+    pub fn with_fact_tracking(self) -> Self {
+        let r = Reduction::new(&self, false);
         self.reduced_by(r)
     }
 }
@@ -157,6 +176,12 @@ impl Reduce for Reduction {
 
     fn finished(&self) -> bool {
         self.done.get()
+    }
+
+    fn note(&self, sys: &System<'_>, cfg: &Config) {
+        if let (Some(_), Ok(mut open)) = (&self.tables, self.open.try_borrow_mut()) {
+            sys.with_running(cfg, |running| self.note_facts(sys, cfg, running, &mut open));
+        }
     }
 }
 
@@ -182,19 +207,20 @@ struct Here<'s, 'a> {
 }
 
 impl Reduction {
-    /// The tables of `sys`.
-    pub fn new(sys: &System<'_>) -> Self {
+    /// The tables of `sys`; with `stubborn`, reducing its steps (when it
+    /// has no inputs and no watchdog), else only following its facts.
+    pub fn new(sys: &System<'_>, stubborn: bool) -> Self {
         let n = sys.len();
-        let usable = n <= 64
-            && (0..n).all(|i| !sys.is_input(i) && !sys.machine_of(i).watchdog)
-            && !sys.too_many_stops();
-        let tables = usable.then(|| Tables::new(sys));
+        let tables = (n <= 64 && !sys.too_many_stops()).then(|| Tables::new(sys));
+        let stubborn = stubborn
+            && (0..n).all(|i| !sys.is_input(i) && !sys.machine_of(i).watchdog);
         let open = tables
             .as_ref()
             .map(|t| Open::new(sys, t))
             .unwrap_or_default();
         Reduction {
             tables,
+            stubborn,
             open: RefCell::new(open),
             done: std::cell::Cell::new(false),
         }
@@ -211,11 +237,8 @@ impl Reduction {
             return actions.len();
         };
         sys.with_running(cfg, |running| {
-            note_facts(sys, cfg, running, &mut open);
-            if open.none() {
-                self.done.set(true);
-            }
-            if !cfg.init_done || actions.len() < 2 {
+            self.note_facts(sys, cfg, running, &mut open);
+            if !self.stubborn || !cfg.init_done || actions.len() < 2 {
                 return actions.len();
             }
             let mut enabled = (0, 0);
@@ -242,6 +265,22 @@ impl Reduction {
                 None => actions.len(),
             }
         })
+    }
+}
+
+impl Reduction {
+    /// Marks the facts `cfg` shows as found, and notes when none is left.
+    fn note_facts(
+        &self,
+        sys: &System<'_>,
+        cfg: &Config,
+        running: &[(usize, genom_model::component::CodelId)],
+        open: &mut Open,
+    ) {
+        note_facts(sys, cfg, running, open);
+        if open.none() {
+            self.done.set(true);
+        }
     }
 }
 

@@ -94,6 +94,13 @@ impl Tables {
         let n = sys.len();
         let set = |list: &[usize]| list.iter().fold(0, |s, &j| s | bit(j));
         let stops: Vec<Set> = (0..n).map(|i| set(sys.stops_of(i))).collect();
+        let inputs = (0..n).filter(|&i| sys.is_input(i)).fold(0, |s, i| s | bit(i));
+        // The relation between members only (inputs are no pending nodes).
+        let own = |rel: &[Set]| -> Vec<Set> {
+            (0..n)
+                .map(|i| if inputs & bit(i) != 0 { 0 } else { rel[i] & !inputs })
+                .collect()
+        };
         let delayers: Vec<Set> = (0..n).map(|i| set(sys.delayers_of(i))).collect();
         let forbidders: Vec<Set> = (0..n).map(|i| set(sys.forbidders_of(i))).collect();
         let transpose = |rel: &[Set]| -> Vec<Set> {
@@ -188,17 +195,20 @@ impl Tables {
             .collect();
         let starvable_by = (0..n)
             .map(|w| {
-                if sys.machine_of(w).watchdog {
+                if sys.machine_of(w).watchdog || sys.is_input(w) {
                     return 0;
                 }
                 // Waiting for an interrupted instance never starves: it
                 // may never end only while active (not interrupted).
                 members(delayers[w])
-                    .filter(|&t| sys.machine_of(t).may_never_end.iter().any(|&b| b))
+                    .filter(|&t| {
+                        sys.is_input(t) || sys.machine_of(t).may_never_end.iter().any(|&b| b)
+                    })
                     .fold(0, |s, t| s | bit(t))
             })
             .collect();
         let request_facts = (0..n)
+            .filter(|&i| !sys.is_input(i))
             .filter(|&i| no_start[i] || c.services[sys.service(i)].control.is_some())
             .fold(0, |s, i| s | bit(i));
         Tables {
@@ -212,7 +222,7 @@ impl Tables {
             steps,
             request_deps,
             ending_deps,
-            deadlock_possible: has_cycle(&delayers),
+            deadlock_possible: has_cycle(&own(&delayers)),
             starvable_by,
             request_facts,
         }

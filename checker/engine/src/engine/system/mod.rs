@@ -156,6 +156,9 @@ pub trait Reduce: std::fmt::Debug {
     fn finished(&self) -> bool {
         false
     }
+    /// Notes the facts of an expanded state, where [`Self::stubborn`] is
+    /// not called (default: nothing).
+    fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
 }
 
 impl<'a> System<'a> {
@@ -238,6 +241,20 @@ impl<'a> System<'a> {
     pub fn reduced_by(mut self, r: impl Reduce + 'static) -> Self {
         self.reduction = Some(Box::new(r));
         self
+    }
+
+    /// Notes the facts of an expanded state `cfg` for the reduction (for a
+    /// model built on this system that computes no stubborn sets).
+    pub fn note_facts(&self, cfg: &Config) {
+        if let Some(r) = &self.reduction {
+            r.note(self, cfg);
+        }
+    }
+
+    /// Whether the reduction found every fact (exploring further changes
+    /// nothing the analysis reads).
+    pub fn all_found(&self) -> bool {
+        self.reduction.as_ref().is_some_and(|r| r.finished())
     }
 
     /// Member indices of the `stops` targets of member `i` (itself

@@ -66,7 +66,7 @@ impl Model for System<'_> {
     }
 
     fn finished(&self) -> bool {
-        self.reduction.as_ref().is_some_and(|r| r.finished())
+        self.all_found()
     }
 
     fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
