@@ -170,9 +170,35 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
     analyse_with(c, limits, true)
 }
 
+/// How the clusters are explored (every method gives the same verdicts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Every interleaving of each whole cluster (`--no-reduction`).
+    Exhaustive,
+    /// The default: each cluster whole with the partial-order reduction
+    /// within a share of the budget, then part by part, then whole.
+    Auto,
+    /// Part by part first (compositional exploration), then whole with the
+    /// partial-order reduction.
+    PartsFirst,
+    /// Whole, with the partial-order reduction only.
+    Reduced,
+}
+
 /// [`analyse`], with partial-order reduction (`reduce`) or exploring every
 /// interleaving.
 pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
+    let method = if reduce {
+        Method::Auto
+    } else {
+        Method::Exhaustive
+    };
+    analyse_using(c, limits, method)
+}
+
+/// [`analyse`] with the given exploration method.
+pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis {
+    let reduce = method != Method::Exhaustive;
     let b = Behaviour::new(c);
     let all: Vec<ServiceId> = c.services.ids().collect();
     let global = System::new(c, &b, &all, false);
@@ -192,10 +218,13 @@ pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
                     prefix: &prefix,
                     global: &global,
                 };
-                if reduce && first_try_whole(&whole, &cluster, &mut budget, &mut out) {
+                if method == Method::Auto
+                    && first_try_whole(&whole, &cluster, &mut budget, &mut out)
+                {
                     continue;
                 }
-                if !(reduce && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
+                let parts = matches!(method, Method::Auto | Method::PartsFirst);
+                if !(parts && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
                     let sys = System::new(c, &b, &cluster, false);
                     let sys = if reduce { sys.with_reduction() } else { sys };
                     explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);

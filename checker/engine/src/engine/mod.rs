@@ -29,5 +29,5 @@ pub(crate) mod witness;
 #[cfg(test)]
 mod speed_tests;
 
-pub use analysis::{Analysis, Blocked, analyse, analyse_with};
+pub use analysis::{Analysis, Blocked, Method, analyse, analyse_using, analyse_with};
 pub use explore::{Limits, Stop};
