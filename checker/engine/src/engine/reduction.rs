@@ -43,6 +43,7 @@ use std::cell::RefCell;
 
 use genom_model::behaviour::{Effect, IDLE};
 
+use super::pending::pending_cycle;
 use super::system::{Action, Config, Reduce, System, conflict};
 use tables::{Set, Tables, bit, members};
 
@@ -83,9 +84,9 @@ struct Open {
     unpended: Set,
     /// Members with an interrupted loop never seen in it.
     unbounded: Set,
-    /// A deadlock may exist: its cycles are not counted, so never all
-    /// found.
-    deadlock: bool,
+    /// The deadlock cycles (member sets) that may exist and were never
+    /// seen; `None` when too many to list (never all found).
+    cycles: Option<Vec<Set>>,
 }
 
 impl Open {
@@ -119,7 +120,7 @@ impl Open {
                 & all,
             unpended: all,
             unbounded,
-            deadlock: t.deadlock_possible,
+            cycles: t.cycles.clone(),
             ..Open::default()
         };
         open.recount();
@@ -137,9 +138,14 @@ impl Open {
         }
     }
 
+    /// Whether some deadlock cycle may still be found.
+    fn deadlock_open(&self) -> bool {
+        self.cycles.as_ref().is_none_or(|c| !c.is_empty())
+    }
+
     /// Whether every fact has been found.
     fn none(&self) -> bool {
-        !self.deadlock
+        !self.deadlock_open()
             && self.requests == 0
             && self.waiters == 0
             && self.open_codels == 0
@@ -316,6 +322,19 @@ fn note_facts(
             open.requests &= !bit(y);
             if sys.machine_of(y).start.is_none() {
                 open.unpended &= !bit(y);
+            }
+        }
+    }
+    if open.cycles.as_ref().is_some_and(|c| !c.is_empty())
+        && cfg.pending.iter().filter(|p| p.is_some()).count() >= 2
+    {
+        if let Some(cycle) = pending_cycle(sys, cfg) {
+            let set = cycle
+                .iter()
+                .filter_map(|&s| sys.member_index(s))
+                .fold(0, |s, i| s | bit(i));
+            if let Some(list) = open.cycles.as_mut() {
+                list.retain(|&c| c != set);
             }
         }
     }
@@ -519,7 +538,7 @@ impl Here<'_, '_> {
             if !self.sys.stops_itself(x) {
                 rejects |= bit(x);
             }
-            if t.deadlock_possible
+            if open.deadlock_open()
                 || t.request[x].writes & starving != 0
                 || rejects & open.requests != 0
             {
@@ -531,7 +550,7 @@ impl Here<'_, '_> {
             let p = usize::from(self.cfg.main[i]);
             let ways = &mach.finish[p];
             if ways.iter().any(|f| matches!(f.effect, Effect::End(_))) {
-                if t.deadlock_possible || t.steps[i].writes & starving != 0 {
+                if open.deadlock_open() || t.steps[i].writes & starving != 0 {
                     return true;
                 }
                 continue;

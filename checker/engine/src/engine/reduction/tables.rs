@@ -78,8 +78,9 @@ pub(super) struct Tables {
     /// Per member: the requests and codel steps that may interfere with its
     /// enabled codel step that may end the instance.
     pub(super) ending_deps: Vec<(Set, Set)>,
-    /// Some cycle of `delays` among the members: a deadlock may exist.
-    pub(super) deadlock_possible: bool,
+    /// The member sets a deadlock may consist of (strongly connected by
+    /// `delays` among themselves); `None` when too many to list.
+    pub(super) cycles: Option<Vec<Set>>,
     /// Per member: the members it may starve (open pairs at the start).
     pub(super) starvable_by: Vec<Set>,
     /// The members whose request being enabled is a fact (their control
@@ -222,7 +223,7 @@ impl Tables {
             steps,
             request_deps,
             ending_deps,
-            deadlock_possible: has_cycle(&own(&delayers)),
+            cycles: deadlock_cycles(&own(&delayers), |i| !sys.machine_of(i).watchdog),
             starvable_by,
             request_facts,
         }
@@ -258,18 +259,84 @@ fn vanish_cascades(n: usize, stops: &[Set], delayers: &[Set], no_start: &[bool])
         .collect()
 }
 
-/// Whether the relation (member → its delayers) has a cycle.
-fn has_cycle(rel: &[Set]) -> bool {
+/// Largest strongly connected set of `delays` whose subsets are listed.
+const MAX_CYCLE_SCC: usize = 14;
+
+/// Most deadlock cycles listed.
+const MAX_CYCLES: usize = 512;
+
+/// Every set of at least two `node` members strongly connected by `rel`
+/// (member → its delayers) among themselves: the values a deadlock's
+/// cycle can take (see `engine::pending`); `None` when a strongly
+/// connected component is too large to list its subsets, or they are too
+/// many.
+fn deadlock_cycles(rel: &[Set], node: impl Fn(usize) -> bool) -> Option<Vec<Set>> {
     let n = rel.len();
-    let mut reach = rel.to_vec();
-    for k in 0..n {
-        for i in 0..n {
-            if reach[i] & bit(k) != 0 {
-                reach[i] |= reach[k];
+    let nodes = (0..n).filter(|&i| node(i)).fold(0, |s, i| s | bit(i));
+    let rel: Vec<Set> = (0..n)
+        .map(|i| if nodes & bit(i) != 0 { rel[i] & nodes } else { 0 })
+        .collect();
+    let mut out = Vec::new();
+    let mut seen = 0;
+    for i in 0..n {
+        if seen & bit(i) != 0 {
+            continue;
+        }
+        let scc = strongly_connected(&rel, bit(i) | reach(&rel, bit(i)), i);
+        seen |= scc | bit(i);
+        if scc.count_ones() < 2 {
+            continue;
+        }
+        let list: Vec<usize> = members(scc).collect();
+        if list.len() > MAX_CYCLE_SCC {
+            return None;
+        }
+        for mask in 1u32..(1 << list.len()) {
+            let s = list
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| mask & (1 << k) != 0)
+                .fold(0, |s, (_, &j)| s | bit(j));
+            if s.count_ones() >= 2 && is_strongly_connected(&rel, s) {
+                out.push(s);
+                if out.len() > MAX_CYCLES {
+                    return None;
+                }
             }
         }
     }
-    (0..n).any(|i| reach[i] & bit(i) != 0)
+    Some(out)
+}
+
+/// The members reachable from `from` in one step or more, within the
+/// relation.
+fn reach(rel: &[Set], from: Set) -> Set {
+    let mut seen = 0;
+    let mut todo = from;
+    while todo != 0 {
+        let k = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        let next = rel[k] & !seen;
+        seen |= next;
+        todo |= next;
+    }
+    seen
+}
+
+/// The members of `within` on a cycle through `i` (its strongly connected
+/// component, when `within` holds every member reachable from `i`).
+fn strongly_connected(rel: &[Set], within: Set, i: usize) -> Set {
+    members(within)
+        .filter(|&j| reach(rel, bit(i)) & bit(j) != 0 && reach(rel, bit(j)) & bit(i) != 0)
+        .fold(0, |s, j| s | bit(j))
+}
+
+/// Whether `s` is strongly connected by the relation restricted to it.
+fn is_strongly_connected(rel: &[Set], s: Set) -> bool {
+    let inner: Vec<Set> = (0..rel.len()).map(|i| if s & bit(i) != 0 { rel[i] & s } else { 0 }).collect();
+    let first = s.trailing_zeros() as usize;
+    let from_first = reach(&inner, bit(first)) | bit(first);
+    from_first & s == s && members(s).all(|j| reach(&inner, bit(j)) & bit(first) != 0)
 }
 
 /// Every codel of every member (control codels excluded), with its member.
