@@ -295,6 +295,11 @@ fn explore_cluster(
         return;
     }
     let mut found = Found::default();
+    if let Some(probed) = sys.probe() {
+        probed.reached.iter().for_each(|&k| found.reach(k));
+        probed.started.iter().for_each(|&(i, s)| found.start(i, s));
+        out.states += probed.states;
+    }
     let e = explore(sys, *budget, |id, cfg| visit(sys, id, cfg, &mut found));
     out.account(budget, &e);
     if e.stopped.is_some() {

@@ -37,6 +37,7 @@
 //! every verdict is preserved; tests/reduction.rs compares reduced and
 //! full explorations on generated components.
 
+pub mod probe;
 mod tables;
 
 use std::cell::RefCell;
@@ -182,6 +183,35 @@ impl Reduce for Reduction {
 
     fn finished(&self) -> bool {
         self.done.get()
+    }
+
+    fn probe(&self, sys: &System<'_>) -> Option<probe::Probed> {
+        let t = self.tables.as_ref().filter(|_| self.stubborn)?;
+        let mut open = self.open.try_borrow_mut().ok()?;
+        let wanted = (0..sys.len()).fold(0, |s, i| s | bit(i));
+        let found = probe::probe(sys, &t.stoppers, wanted);
+        for &k in &found.reached {
+            if let Some(o) = open.codels.get_mut(k.0 as usize) {
+                if std::mem::replace(o, false) {
+                    open.open_codels -= 1;
+                }
+            }
+        }
+        let started = found.started.iter().fold(0, |s, &(i, _)| s | bit(i));
+        open.unstarted &= !started;
+        open.unpended &= !started;
+        let c = sys.component();
+        for y in members(open.requests) {
+            let control = c.services[sys.service(y)].control;
+            let start = sys.machine_of(y).start.is_some() || started & bit(y) != 0;
+            if control.is_none_or(|k| found.reached.contains(&k)) && start {
+                open.requests &= !bit(y);
+            }
+        }
+        if open.none() {
+            self.done.set(true);
+        }
+        Some(found)
     }
 
     fn note(&self, sys: &System<'_>, cfg: &Config) {

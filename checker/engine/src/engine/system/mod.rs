@@ -159,6 +159,11 @@ pub trait Reduce: std::fmt::Debug {
     /// Notes the facts of an expanded state, where [`Self::stubborn`] is
     /// not called (default: nothing).
     fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
+    /// Runs the reduction's probes (default: none), which find facts
+    /// without a trace before the search.
+    fn probe(&self, _sys: &System<'_>) -> Option<crate::engine::reduction::probe::Probed> {
+        None
+    }
 }
 
 impl<'a> System<'a> {
@@ -249,6 +254,12 @@ impl<'a> System<'a> {
         if let Some(r) = &self.reduction {
             r.note(self, cfg);
         }
+    }
+
+    /// Runs the reduction's probes, if any (see
+    /// [`crate::engine::reduction::probe`]).
+    pub fn probe(&self) -> Option<crate::engine::reduction::probe::Probed> {
+        self.reduction.as_ref().and_then(|r| r.probe(self))
     }
 
     /// Whether the reduction found every fact (exploring further changes
