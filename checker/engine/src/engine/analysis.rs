@@ -183,6 +183,9 @@ pub enum Method {
     PartsFirst,
     /// Whole, with the partial-order reduction only.
     Reduced,
+    /// Whole, with the stubborn sets of the partial-order reduction alone:
+    /// no probes, no stop once every fact is found (for tests).
+    StubbornOnly,
 }
 
 /// [`analyse`], with partial-order reduction (`reduce`) or exploring every
@@ -226,7 +229,11 @@ pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis 
                 let parts = matches!(method, Method::Auto | Method::PartsFirst);
                 if !(parts && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
                     let sys = System::new(c, &b, &cluster, false);
-                    let sys = if reduce { sys.with_reduction() } else { sys };
+                    let sys = match method {
+                        Method::Exhaustive => sys,
+                        Method::StubbornOnly => sys.with_stubborn_sets_only(),
+                        _ => sys.with_reduction(),
+                    };
                     explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);
                 }
             }

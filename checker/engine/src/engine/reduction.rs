@@ -60,6 +60,9 @@ pub struct Reduction {
     open: RefCell<Open>,
     /// Every fact has been found.
     done: std::cell::Cell<bool>,
+    /// Probes run and the exploration stops once every fact is found
+    /// (off only to test the stubborn sets alone).
+    stop_early: bool,
 }
 
 /// The facts no expanded state has shown yet (each verdict reads whether
@@ -164,6 +167,15 @@ impl System<'_> {
         self.reduced_by(r)
     }
 
+    /// [`Self::with_reduction`] without probes and without stopping once
+    /// every fact is found: the stubborn sets alone (for tests).
+    #[must_use]
+    pub fn with_stubborn_sets_only(self) -> Self {
+        let mut r = Reduction::new(&self, true);
+        r.stop_early = false;
+        self.reduced_by(r)
+    }
+
     /// The same system, exploring every interleaving but following the
     /// facts its states show, so that [`Model::finished`] ends the
     /// exploration once all are found (see [`super::compose`]).
@@ -182,11 +194,11 @@ impl Reduce for Reduction {
     }
 
     fn finished(&self) -> bool {
-        self.done.get()
+        self.stop_early && self.done.get()
     }
 
     fn probe(&self, sys: &System<'_>) -> Option<probe::Probed> {
-        let t = self.tables.as_ref().filter(|_| self.stubborn)?;
+        let t = self.tables.as_ref().filter(|_| self.stubborn && self.stop_early)?;
         let mut open = self.open.try_borrow_mut().ok()?;
         let wanted = (0..sys.len()).fold(0, |s, i| s | bit(i));
         let found = probe::probe(sys, &t.stoppers, wanted);
@@ -259,6 +271,7 @@ impl Reduction {
             stubborn,
             open: RefCell::new(open),
             done: std::cell::Cell::new(false),
+            stop_early: true,
         }
     }
 
