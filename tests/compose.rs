@@ -230,7 +230,13 @@ fn a_limit_in_a_later_part_keeps_the_earlier_parts() {
 }
 
 /// A generator configuration of the given shape.
-fn shaped(seed: u64, services: usize, codels: usize, threads: usize, density: f64) -> GeneratorConfig {
+fn shaped(
+    seed: u64,
+    services: usize,
+    codels: usize,
+    threads: usize,
+    density: f64,
+) -> GeneratorConfig {
     let mut cfg = GeneratorConfig::new(seed, services);
     cfg.codels_per_service = codels;
     cfg.threads = threads;
@@ -275,7 +281,13 @@ fn the_partial_order_reduction_agrees_with_exhaustive_exploration() {
 fn the_partial_order_reduction_agrees_on_dense_components() {
     let mut pruned = 0;
     for seed in 1..13u64 {
-        let cfg = shaped(seed, 6 + (seed % 3) as usize, 2 + (seed % 2) as usize, 2, 3.0);
+        let cfg = shaped(
+            seed,
+            6 + (seed % 3) as usize,
+            2 + (seed % 2) as usize,
+            2,
+            3.0,
+        );
         if let Some((reduced, full)) = compare_using(&cfg, Method::Reduced) {
             pruned += usize::from(reduced.states * 10 < full);
         }
@@ -291,7 +303,13 @@ fn the_partial_order_reduction_agrees_on_dense_components() {
 fn the_stubborn_sets_alone_agree_with_exhaustive_exploration() {
     let (mut compared, mut pruned) = (0, 0);
     for seed in 0..80u64 {
-        let cfg = shaped(seed, 3 + (seed % 5) as usize, 1 + (seed % 3) as usize, 1 + (seed % 3) as usize, (seed % 9) as f64 / 4.0);
+        let cfg = shaped(
+            seed,
+            3 + (seed % 5) as usize,
+            1 + (seed % 3) as usize,
+            1 + (seed % 3) as usize,
+            (seed % 9) as f64 / 4.0,
+        );
         if let Some((reduced, full)) = compare_using(&cfg, Method::StubbornOnly) {
             compared += 1;
             pruned += usize::from(reduced.states < full);

@@ -10,6 +10,7 @@ use genom_model::behaviour::{Behaviour, IDLE};
 use genom_model::component::{CodelId, Component, ServiceId};
 use genom_model::trace::{Event, Trace, TraceStep};
 
+pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
 use super::pending::pending_cycle;
@@ -201,7 +202,6 @@ pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
 
 /// [`analyse`] with the given exploration method.
 pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis {
-    let reduce = method != Method::Exhaustive;
     let b = Behaviour::new(c);
     let all: Vec<ServiceId> = c.services.ids().collect();
     let global = System::new(c, &b, &all, false);
@@ -784,39 +784,4 @@ pub(crate) fn reject_reason(
         ),
         None => (None, "every request is rejected".to_owned()),
     }
-}
-
-/// The clusters: connected components of the `stops`/`delays`/`forbids`
-/// relation, each sorted, in order of their first service.
-pub fn clusters(c: &Component) -> Vec<Vec<ServiceId>> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(parent: &mut [usize], x: usize) -> usize {
-        let mut r = x;
-        while parent[r] != r {
-            r = parent[r];
-        }
-        let mut y = x;
-        while parent[y] != r {
-            let next = parent[y];
-            parent[y] = r;
-            y = next;
-        }
-        r
-    }
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            let (a, b) = (
-                find(&mut parent, s.0 as usize),
-                find(&mut parent, r.id.0 as usize),
-            );
-            parent[a.max(b)] = a.min(b);
-        }
-    }
-    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
-    for s in c.services.ids() {
-        let root = find(&mut parent, s.0 as usize);
-        groups.entry(root).or_default().push(s);
-    }
-    groups.into_values().collect()
 }

@@ -17,6 +17,7 @@
 //! reduction of quiet codel steps ([`reduction`]).
 
 pub mod analysis;
+mod clusters;
 pub mod compose;
 pub mod explore;
 mod pending;

@@ -198,7 +198,10 @@ impl Reduce for Reduction {
     }
 
     fn probe(&self, sys: &System<'_>) -> Option<probe::Probed> {
-        let t = self.tables.as_ref().filter(|_| self.stubborn && self.stop_early)?;
+        let t = self
+            .tables
+            .as_ref()
+            .filter(|_| self.stubborn && self.stop_early)?;
         let mut open = self.open.try_borrow_mut().ok()?;
         let wanted = (0..sys.len()).fold(0, |s, i| s | bit(i));
         let found = probe::probe(sys, &t.stoppers, wanted);
@@ -260,8 +263,7 @@ impl Reduction {
     pub fn new(sys: &System<'_>, stubborn: bool) -> Self {
         let n = sys.len();
         let tables = (n <= 64 && !sys.too_many_stops()).then(|| Tables::new(sys));
-        let stubborn = stubborn
-            && (0..n).all(|i| !sys.is_input(i) && !sys.machine_of(i).watchdog);
+        let stubborn = stubborn && (0..n).all(|i| !sys.is_input(i) && !sys.machine_of(i).watchdog);
         let open = tables
             .as_ref()
             .map(|t| Open::new(sys, t))
@@ -409,7 +411,11 @@ fn keep(sys: &System<'_>, actions: &mut [Action], (r, m): Pair) -> usize {
         let Some(i) = sys.member_index(a.service()) else {
             continue;
         };
-        let set = if matches!(a, Action::Request(_)) { r } else { m };
+        let set = if matches!(a, Action::Request(_)) {
+            r
+        } else {
+            m
+        };
         if set & bit(i) != 0 {
             actions.swap(n, k);
             n += 1;
@@ -603,12 +609,18 @@ impl Here<'_, '_> {
                     return true;
                 }
             }
-            let targets = mach.begin[p].into_iter().chain(ways.iter().filter_map(|f| match f.effect {
-                Effect::Goto(q) => Some(q),
-                Effect::End(_) => None,
-            }));
+            let targets =
+                mach.begin[p]
+                    .into_iter()
+                    .chain(ways.iter().filter_map(|f| match f.effect {
+                        Effect::Goto(q) => Some(q),
+                        Effect::End(_) => None,
+                    }));
             let mne = &mach.may_never_end;
-            if open.blockers & bit(i) != 0 && mne[p] && targets.into_iter().any(|q| !mne[usize::from(q)]) {
+            if open.blockers & bit(i) != 0
+                && mne[p]
+                && targets.into_iter().any(|q| !mne[usize::from(q)])
+            {
                 return true;
             }
         }
@@ -662,4 +674,3 @@ mod tests {
         assert_eq!(all_reduced, all_full, "every position of every service");
     }
 }
-

@@ -75,10 +75,9 @@ pub struct Probed {
     pub states: u64,
 }
 
-/// Probes each member of `sys` (at most 64, no inputs) whose codels or
-/// start are in `wanted`: requests for it and for those that stop it only.
-/// `read` gives the codels running in a state, the members started and
-/// the members whose request is enabled.
+/// Probes each member of `wanted` (members of `sys`, at most 64, no
+/// inputs): clients request only it and those that stop it (`stoppers`),
+/// so that its inter codels run too.
 pub fn probe(sys: &System<'_>, stoppers: &[Set], wanted: Set) -> Probed {
     let mut out = Probed::default();
     let limits = Limits {
@@ -104,8 +103,7 @@ pub fn probe(sys: &System<'_>, stoppers: &[Set], wanted: Set) -> Probed {
                     let request = || sys.request_enabled_among(cfg, j, running);
                     let control = c.services[s].control;
                     let no_start = sys.machine_of(j).start.is_none();
-                    if (control.is_some_and(|k| !out.reached.contains(&k)) || no_start)
-                        && request()
+                    if (control.is_some_and(|k| !out.reached.contains(&k)) || no_start) && request()
                     {
                         out.reached.extend(control);
                         if no_start {

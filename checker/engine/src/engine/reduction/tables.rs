@@ -95,18 +95,30 @@ impl Tables {
         let n = sys.len();
         let set = |list: &[usize]| list.iter().fold(0, |s, &j| s | bit(j));
         let stops: Vec<Set> = (0..n).map(|i| set(sys.stops_of(i))).collect();
-        let inputs = (0..n).filter(|&i| sys.is_input(i)).fold(0, |s, i| s | bit(i));
+        let inputs = (0..n)
+            .filter(|&i| sys.is_input(i))
+            .fold(0, |s, i| s | bit(i));
         // The relation between members only (inputs are no pending nodes).
         let own = |rel: &[Set]| -> Vec<Set> {
             (0..n)
-                .map(|i| if inputs & bit(i) != 0 { 0 } else { rel[i] & !inputs })
+                .map(|i| {
+                    if inputs & bit(i) != 0 {
+                        0
+                    } else {
+                        rel[i] & !inputs
+                    }
+                })
                 .collect()
         };
         let delayers: Vec<Set> = (0..n).map(|i| set(sys.delayers_of(i))).collect();
         let forbidders: Vec<Set> = (0..n).map(|i| set(sys.forbidders_of(i))).collect();
         let transpose = |rel: &[Set]| -> Vec<Set> {
             (0..n)
-                .map(|t| (0..n).filter(|&k| rel[k] & bit(t) != 0).fold(0, |s, k| s | bit(k)))
+                .map(|t| {
+                    (0..n)
+                        .filter(|&k| rel[k] & bit(t) != 0)
+                        .fold(0, |s, k| s | bit(k))
+                })
                 .collect()
         };
         let stoppers = transpose(&stops);
@@ -132,9 +144,7 @@ impl Tables {
         let vanish = vanish_cascades(n, &stops, &delayers, &no_start);
         // Closure reads: starting a member reads the instances of its
         // delayers and the wait mask of its stops targets.
-        let closure_reads = |s: Set| {
-            members(s).fold(s, |r, k| r | delayers[k] | stops[k])
-        };
+        let closure_reads = |s: Set| members(s).fold(s, |r, k| r | delayers[k] | stops[k]);
         let request: Vec<Footprint> = (0..n)
             .map(|x| {
                 let mut writes = bit(x) | stops[x];
@@ -151,7 +161,11 @@ impl Tables {
         let steps: Vec<Footprint> = (0..n)
             .map(|j| {
                 let writes = bit(j) | if can_end[j] { vanish[j] } else { 0 };
-                let reads = if can_end[j] { closure_reads(writes) } else { bit(j) };
+                let reads = if can_end[j] {
+                    closure_reads(writes)
+                } else {
+                    bit(j)
+                };
                 Footprint { writes, reads }
             })
             .collect();
@@ -274,7 +288,13 @@ fn deadlock_cycles(rel: &[Set], node: impl Fn(usize) -> bool) -> Option<Vec<Set>
     let n = rel.len();
     let nodes = (0..n).filter(|&i| node(i)).fold(0, |s, i| s | bit(i));
     let rel: Vec<Set> = (0..n)
-        .map(|i| if nodes & bit(i) != 0 { rel[i] & nodes } else { 0 })
+        .map(|i| {
+            if nodes & bit(i) != 0 {
+                rel[i] & nodes
+            } else {
+                0
+            }
+        })
         .collect();
     let mut out = Vec::new();
     let mut seen = 0;
@@ -333,7 +353,9 @@ fn strongly_connected(rel: &[Set], within: Set, i: usize) -> Set {
 
 /// Whether `s` is strongly connected by the relation restricted to it.
 fn is_strongly_connected(rel: &[Set], s: Set) -> bool {
-    let inner: Vec<Set> = (0..rel.len()).map(|i| if s & bit(i) != 0 { rel[i] & s } else { 0 }).collect();
+    let inner: Vec<Set> = (0..rel.len())
+        .map(|i| if s & bit(i) != 0 { rel[i] & s } else { 0 })
+        .collect();
     let first = s.trailing_zeros() as usize;
     let from_first = reach(&inner, bit(first)) | bit(first);
     from_first & s == s && members(s).all(|j| reach(&inner, bit(j)) & bit(first) != 0)
