@@ -189,10 +189,10 @@ impl Tables {
                     lockers[k.0 as usize] |= bit(i);
                 }
             }
-            for x in 0..n {
+            for (x, locked_by) in control_lockers.iter_mut().enumerate() {
                 if conflict(uses, sys.control_uses(x)) {
                     lockees[k.0 as usize] |= bit(x);
-                    control_lockers[x] |= bit(j);
+                    *locked_by |= bit(j);
                 }
             }
         }
