@@ -302,7 +302,7 @@ fn explore_cluster(
         return;
     }
     let mut found = Found::default();
-    if let Some(probed) = sys.probe() {
+    if let Some(probed) = sys.probe(*budget) {
         probed.reached.iter().for_each(|&k| found.reach(k));
         probed.started.iter().for_each(|&(i, s)| found.start(i, s));
         out.states += probed.states;

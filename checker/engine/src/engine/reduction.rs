@@ -52,6 +52,7 @@ use std::cell::RefCell;
 
 use genom_model::behaviour::{Effect, IDLE};
 
+use super::explore::Limits;
 use super::pending::pending_cycle;
 use super::system::{Action, Config, Reduce, System, conflict};
 use tables::{Set, Tables, bit, members};
@@ -205,14 +206,14 @@ impl Reduce for Reduction {
         self.stop_early && self.done.get()
     }
 
-    fn probe(&self, sys: &System<'_>) -> Option<probe::Probed> {
+    fn probe(&self, sys: &System<'_>, limits: Limits) -> Option<probe::Probed> {
         let t = self
             .tables
             .as_ref()
             .filter(|_| self.stubborn && self.stop_early)?;
         let mut open = self.open.try_borrow_mut().ok()?;
         let wanted = (0..sys.len()).fold(0, |s, i| s | bit(i));
-        let found = probe::probe(sys, &t.stoppers, wanted);
+        let found = probe::probe(sys, &t.stoppers, wanted, limits);
         for &k in &found.reached {
             if let Some(o) = open.codels.get_mut(k.0 as usize) {
                 if std::mem::replace(o, false) {

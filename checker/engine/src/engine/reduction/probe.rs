@@ -78,11 +78,12 @@ pub struct Probed {
 /// Probes each member of `wanted` (members of `sys`, at most 64, no
 /// inputs): clients request only it and those that stop it (`stoppers`),
 /// so that its inter codels run too.
-pub fn probe(sys: &System<'_>, stoppers: &[Set], wanted: Set) -> Probed {
+/// `limits` bounds each probe too (its deadline and memory).
+pub fn probe(sys: &System<'_>, stoppers: &[Set], wanted: Set, limits: Limits) -> Probed {
     let mut out = Probed::default();
     let limits = Limits {
-        max_states: PROBE_STATES,
-        ..Limits::default()
+        max_states: PROBE_STATES.min(limits.max_states),
+        ..limits
     };
     let c = sys.component();
     for i in members(wanted) {

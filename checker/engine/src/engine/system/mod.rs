@@ -161,7 +161,11 @@ pub trait Reduce: std::fmt::Debug {
     fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
     /// Runs the reduction's probes (default: none), which find facts
     /// without a trace before the search.
-    fn probe(&self, _sys: &System<'_>) -> Option<crate::engine::reduction::probe::Probed> {
+    fn probe(
+        &self,
+        _sys: &System<'_>,
+        _limits: crate::engine::explore::Limits,
+    ) -> Option<crate::engine::reduction::probe::Probed> {
         None
     }
 }
@@ -258,8 +262,11 @@ impl<'a> System<'a> {
 
     /// Runs the reduction's probes, if any (see
     /// [`crate::engine::reduction::probe`]).
-    pub fn probe(&self) -> Option<crate::engine::reduction::probe::Probed> {
-        self.reduction.as_ref().and_then(|r| r.probe(self))
+    pub fn probe(
+        &self,
+        limits: crate::engine::explore::Limits,
+    ) -> Option<crate::engine::reduction::probe::Probed> {
+        self.reduction.as_ref().and_then(|r| r.probe(self, limits))
     }
 
     /// Whether the reduction found every fact (exploring further changes
