@@ -1,10 +1,12 @@
 //! The reductions of the untimed engine against exhaustive exploration:
 //! on generated components, exploring clusters part by part (compositional
-//! exploration) with the partial-order reduction must establish exactly
-//! what the exploration of whole clusters with every interleaving
-//! establishes — the codels run, the services started, the deadlocks,
-//! starvations, unbounded interrupts and dead services — and each trace it
-//! gives must replay against the semantics and show its verdict.
+//! exploration), whole with the partial-order reduction (stubborn sets,
+//! stopping once every fact is found), and the default mix of both must
+//! each establish exactly what the exploration of whole clusters with every
+//! interleaving establishes — the codels run, the services started, the
+//! deadlocks, starvations, unbounded interrupts and dead services — and
+//! each trace they give must replay against the semantics and show its
+//! verdict.
 
 #![allow(clippy::expect_used)] // test support code
 
@@ -12,7 +14,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
-use genom_checker::engine::{Analysis, Limits, analyse_with};
+use genom_checker::engine::{Analysis, Limits, Method, analyse_using, analyse_with};
 use genom_checker::replay::{Claim, replay_claim};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
@@ -101,9 +103,17 @@ fn component(cfg: &GeneratorConfig) -> Component {
     result.component.expect("a generated component resolves")
 }
 
-/// Compares both analyses of one component; `None` when the exhaustive one
-/// does not finish within its limit. Returns the number of parts explored.
+/// Compares both analyses of one component (compositional first); `None`
+/// when the exhaustive one does not finish within its limit. Returns the
+/// number of parts explored.
 fn compare(cfg: &GeneratorConfig) -> Option<u64> {
+    compare_using(cfg, Method::PartsFirst).map(|(a, _)| a.parts)
+}
+
+/// Compares the analysis by `method` of one component with the exhaustive
+/// one; `None` when the exhaustive one does not finish within its limit.
+/// Returns the reduced analysis and the exhaustive one's state count.
+fn compare_using(cfg: &GeneratorConfig, method: Method) -> Option<(Analysis, u64)> {
     let c = component(cfg);
     let limits = Limits {
         max_states: 400_000,
@@ -113,7 +123,7 @@ fn compare(cfg: &GeneratorConfig) -> Option<u64> {
     if full.stopped.is_some() {
         return None;
     }
-    let reduced = analyse_with(&c, Limits::default(), true);
+    let reduced = analyse_using(&c, Limits::default(), method);
     assert!(
         reduced.stopped.is_none(),
         "seed {}: reduced incomplete",
@@ -134,7 +144,7 @@ fn compare(cfg: &GeneratorConfig) -> Option<u64> {
         failures.join("\n"),
         generate(cfg)
     );
-    Some(reduced.parts)
+    Some((reduced, full.states))
 }
 
 /// Small random components (the generator's whole space).
@@ -217,4 +227,95 @@ fn a_limit_in_a_later_part_keeps_the_earlier_parts() {
     for fact in &a {
         assert!(b.contains(fact), "{fact:?} changes with the limit");
     }
+}
+
+/// A generator configuration of the given shape.
+fn shaped(
+    seed: u64,
+    services: usize,
+    codels: usize,
+    threads: usize,
+    density: f64,
+) -> GeneratorConfig {
+    let mut cfg = GeneratorConfig::new(seed, services);
+    cfg.codels_per_service = codels;
+    cfg.threads = threads;
+    cfg.rule_density = density;
+    cfg.init = seed % 3 != 0;
+    cfg.autos = (seed % 2) as usize;
+    cfg.auto_rules = seed % 5 == 0;
+    cfg.self_stops = if seed % 4 == 0 { 0.5 } else { 0.0 };
+    cfg
+}
+
+/// The partial-order reduction alone (whole clusters, stubborn sets, the
+/// exploration stopping once every fact is found) on components of many
+/// shapes, and the default method: the same facts, replayable traces, and
+/// far fewer states on some.
+#[test]
+fn the_partial_order_reduction_agrees_with_exhaustive_exploration() {
+    let (mut compared, mut pruned) = (0, 0);
+    for seed in 0..80u64 {
+        let services = 3 + (seed % 6) as usize;
+        let codels = 1 + (seed % 4) as usize;
+        let threads = 1 + (seed % 3) as usize;
+        let density = (seed % 13) as f64 / 4.0;
+        let cfg = shaped(seed, services, codels, threads, density);
+        let Some((reduced, full)) = compare_using(&cfg, Method::Reduced) else {
+            continue;
+        };
+        compared += 1;
+        if reduced.states * 4 < full {
+            pruned += 1;
+        }
+        compare_using(&cfg, Method::Auto);
+    }
+    println!("reduction: {compared} compared, {pruned} pruned fourfold");
+    assert!(compared >= 60, "only {compared} components compared");
+    assert!(pruned >= 12, "only {pruned} components pruned fourfold");
+}
+
+/// Components where the reduction matters: many mutually stopping services
+/// on shared threads (the shape of issue 14), exhaustively explorable.
+#[test]
+fn the_partial_order_reduction_agrees_on_dense_components() {
+    let mut pruned = 0;
+    for seed in 1..13u64 {
+        let cfg = shaped(
+            seed,
+            6 + (seed % 3) as usize,
+            2 + (seed % 2) as usize,
+            2,
+            3.0,
+        );
+        if let Some((reduced, full)) = compare_using(&cfg, Method::Reduced) {
+            pruned += usize::from(reduced.states * 10 < full);
+        }
+    }
+    println!("dense: {pruned} pruned tenfold");
+    assert!(pruned >= 3, "only {pruned} dense components pruned tenfold");
+}
+
+/// The stubborn sets alone (no probes, no early stop: every reachable
+/// state of the reduced graph is explored): the same facts on components of
+/// many shapes, and fewer states on some.
+#[test]
+fn the_stubborn_sets_alone_agree_with_exhaustive_exploration() {
+    let (mut compared, mut pruned) = (0, 0);
+    for seed in 0..80u64 {
+        let cfg = shaped(
+            seed,
+            3 + (seed % 5) as usize,
+            1 + (seed % 3) as usize,
+            1 + (seed % 3) as usize,
+            (seed % 9) as f64 / 4.0,
+        );
+        if let Some((reduced, full)) = compare_using(&cfg, Method::StubbornOnly) {
+            compared += 1;
+            pruned += usize::from(reduced.states < full);
+        }
+    }
+    assert!(compared >= 60, "only {compared} components compared");
+    println!("stubborn sets alone: {compared} compared, {pruned} pruned");
+    assert!(pruned >= 10, "only {pruned} components pruned");
 }

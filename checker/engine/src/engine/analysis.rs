@@ -10,6 +10,7 @@ use genom_model::behaviour::{Behaviour, IDLE};
 use genom_model::component::{CodelId, Component, ServiceId};
 use genom_model::trace::{Event, Trace, TraceStep};
 
+pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
 use super::pending::pending_cycle;
@@ -170,9 +171,37 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
     analyse_with(c, limits, true)
 }
 
+/// How the clusters are explored (every method gives the same verdicts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Every interleaving of each whole cluster (`--no-reduction`).
+    Exhaustive,
+    /// The default: each cluster whole with the partial-order reduction
+    /// within a share of the budget, then part by part, then whole.
+    Auto,
+    /// Part by part first (compositional exploration), then whole with the
+    /// partial-order reduction.
+    PartsFirst,
+    /// Whole, with the partial-order reduction only.
+    Reduced,
+    /// Whole, with the stubborn sets of the partial-order reduction alone:
+    /// no probes, no stop once every fact is found (for tests).
+    StubbornOnly,
+}
+
 /// [`analyse`], with partial-order reduction (`reduce`) or exploring every
 /// interleaving.
 pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
+    let method = if reduce {
+        Method::Auto
+    } else {
+        Method::Exhaustive
+    };
+    analyse_using(c, limits, method)
+}
+
+/// [`analyse`] with the given exploration method.
+pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis {
     let b = Behaviour::new(c);
     let all: Vec<ServiceId> = c.services.ids().collect();
     let global = System::new(c, &b, &all, false);
@@ -192,9 +221,19 @@ pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
                     prefix: &prefix,
                     global: &global,
                 };
-                if !(reduce && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
+                if method == Method::Auto
+                    && first_try_whole(&whole, &cluster, &mut budget, &mut out)
+                {
+                    continue;
+                }
+                let parts = matches!(method, Method::Auto | Method::PartsFirst);
+                if !(parts && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
                     let sys = System::new(c, &b, &cluster, false);
-                    let sys = if reduce { sys.with_reduction() } else { sys };
+                    let sys = match method {
+                        Method::Exhaustive => sys,
+                        Method::StubbornOnly => sys.with_stubborn_sets_only(),
+                        _ => sys.with_reduction(),
+                    };
                     explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);
                 }
             }
@@ -263,6 +302,11 @@ fn explore_cluster(
         return;
     }
     let mut found = Found::default();
+    if let Some(probed) = sys.probe(*budget) {
+        probed.reached.iter().for_each(|&k| found.reach(k));
+        probed.started.iter().for_each(|&(i, s)| found.start(i, s));
+        out.states += probed.states;
+    }
     let e = explore(sys, *budget, |id, cfg| visit(sys, id, cfg, &mut found));
     out.account(budget, &e);
     if e.stopped.is_some() {
@@ -283,6 +327,40 @@ fn explore_cluster(
         &found,
         out,
     );
+}
+
+/// The share of the remaining state budget a first, whole exploration of
+/// a cluster with the partial-order reduction may use: it ends as soon as
+/// every fact the cluster can show is found, which is often early; past
+/// this share the cluster is explored part by part instead.
+const WHOLE_FIRST_SHARE: usize = 4;
+
+/// Explores the cluster whole with the partial-order reduction, within a
+/// share of the budget; `true`, with the results in `out`, when it
+/// finished (the states it stored are charged to the budget either way).
+fn first_try_whole(
+    w: &Whole<'_>,
+    cluster: &[ServiceId],
+    budget: &mut Limits,
+    out: &mut Analysis,
+) -> bool {
+    let sys = System::new(w.c, w.b, cluster, false).with_reduction();
+    if sys.too_many_stops() {
+        return false;
+    }
+    let mut share = Limits {
+        max_states: (budget.max_states / WHOLE_FIRST_SHARE).max(1),
+        ..*budget
+    };
+    let mut tmp = Analysis::default();
+    explore_cluster(&sys, w.prefix, w.global, &mut share, &mut tmp);
+    let spent = usize::try_from(tmp.states).unwrap_or(usize::MAX);
+    budget.max_states = budget.max_states.saturating_sub(spent).max(1);
+    if tmp.stopped.is_some() {
+        return false;
+    }
+    out.absorb(tmp);
+    true
 }
 
 /// What every exploration of a cluster shares.
@@ -320,6 +398,12 @@ fn explore_parts(
     let mut local = *budget;
     for (k, part) in plan.parts.iter().enumerate() {
         let sys = System::with_inputs(w.c, w.b, part, &plan.inputs[k], false);
+        // The last part's graph is not projected: it may stop once every
+        // fact it can show is found.
+        let sys = match plan.interface(k) {
+            [] => sys.with_fact_tracking(),
+            _ => sys,
+        };
         if sys.too_many_stops() {
             return false;
         }
@@ -700,39 +784,4 @@ pub(crate) fn reject_reason(
         ),
         None => (None, "every request is rejected".to_owned()),
     }
-}
-
-/// The clusters: connected components of the `stops`/`delays`/`forbids`
-/// relation, each sorted, in order of their first service.
-pub fn clusters(c: &Component) -> Vec<Vec<ServiceId>> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(parent: &mut [usize], x: usize) -> usize {
-        let mut r = x;
-        while parent[r] != r {
-            r = parent[r];
-        }
-        let mut y = x;
-        while parent[y] != r {
-            let next = parent[y];
-            parent[y] = r;
-            y = next;
-        }
-        r
-    }
-    for (s, svc) in c.services.iter() {
-        for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            let (a, b) = (
-                find(&mut parent, s.0 as usize),
-                find(&mut parent, r.id.0 as usize),
-            );
-            parent[a.max(b)] = a.min(b);
-        }
-    }
-    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
-    for s in c.services.ids() {
-        let root = find(&mut parent, s.0 as usize);
-        groups.entry(root).or_default().push(s);
-    }
-    groups.into_values().collect()
 }

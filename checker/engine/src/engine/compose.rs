@@ -297,6 +297,15 @@ impl Model for Composed<'_> {
         }
     }
 
+    fn reduce(&self, (cfg, _): &(Config, u32), actions: &mut [Step]) -> usize {
+        self.sys.note_facts(cfg);
+        actions.len()
+    }
+
+    fn finished(&self) -> bool {
+        self.sys.all_found()
+    }
+
     fn encode(&self, (cfg, d): &(Config, u32), out: &mut Vec<u64>) {
         self.sys.encode(cfg, out);
         out.push(u64::from(*d));

@@ -71,6 +71,13 @@ pub trait Model {
     fn reduce(&self, _state: &Self::State, actions: &mut [Self::Action]) -> usize {
         actions.len()
     }
+    /// Whether exploring further can no longer change anything the caller
+    /// reads (default: never). The explorer then stops, and the exploration
+    /// counts as complete: the partial-order reduction answers `true` once
+    /// every fact the analysis can find has been found.
+    fn finished(&self) -> bool {
+        false
+    }
     /// How many transitions pass between two looks at the clock and the
     /// memory (default 64, and 16 times as many expansions). A model whose
     /// transitions are costly (zones over many clocks) asks for fewer, so
@@ -165,6 +172,9 @@ pub fn explore<M: Model>(
     'expansions: while next < store.len() {
         stopped = check_limits(&store, limits, next, period);
         if stopped.is_some() {
+            break;
+        }
+        if model.finished() {
             break;
         }
         let id = StateId::try_from(next).unwrap_or(StateId::MAX);

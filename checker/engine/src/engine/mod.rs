@@ -17,6 +17,7 @@
 //! reduction of quiet codel steps ([`reduction`]).
 
 pub mod analysis;
+mod clusters;
 pub mod compose;
 pub mod explore;
 mod pending;
@@ -29,5 +30,5 @@ pub(crate) mod witness;
 #[cfg(test)]
 mod speed_tests;
 
-pub use analysis::{Analysis, Blocked, analyse, analyse_with};
+pub use analysis::{Analysis, Blocked, Method, analyse, analyse_using, analyse_with};
 pub use explore::{Limits, Stop};

@@ -150,6 +150,24 @@ pub trait Reduce: std::fmt::Debug {
     /// to the front and returns its length; `actions.len()` when there is
     /// none smaller.
     fn stubborn(&self, sys: &System<'_>, cfg: &Config, actions: &mut [Action]) -> usize;
+    /// Whether every fact the analysis reads has been found in the states
+    /// given to [`Self::stubborn`] so far (exploring further changes
+    /// nothing; default: never).
+    fn finished(&self) -> bool {
+        false
+    }
+    /// Notes the facts of an expanded state, where [`Self::stubborn`] is
+    /// not called (default: nothing).
+    fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
+    /// Runs the reduction's probes (default: none), which find facts
+    /// without a trace before the search.
+    fn probe(
+        &self,
+        _sys: &System<'_>,
+        _limits: crate::engine::explore::Limits,
+    ) -> Option<crate::engine::reduction::probe::Probed> {
+        None
+    }
 }
 
 impl<'a> System<'a> {
@@ -234,10 +252,49 @@ impl<'a> System<'a> {
         self
     }
 
+    /// Notes the facts of an expanded state `cfg` for the reduction (for a
+    /// model built on this system that computes no stubborn sets).
+    pub fn note_facts(&self, cfg: &Config) {
+        if let Some(r) = &self.reduction {
+            r.note(self, cfg);
+        }
+    }
+
+    /// Runs the reduction's probes, if any (see
+    /// [`crate::engine::reduction::probe`]).
+    pub fn probe(
+        &self,
+        limits: crate::engine::explore::Limits,
+    ) -> Option<crate::engine::reduction::probe::Probed> {
+        self.reduction.as_ref().and_then(|r| r.probe(self, limits))
+    }
+
+    /// Whether the reduction found every fact (exploring further changes
+    /// nothing the analysis reads).
+    pub fn all_found(&self) -> bool {
+        self.reduction.as_ref().is_some_and(|r| r.finished())
+    }
+
     /// Member indices of the `stops` targets of member `i` (itself
     /// included when it stops itself).
     pub fn stops_of(&self, i: usize) -> &[usize] {
         &self.members[i].stops
+    }
+
+    /// Member indices whose instances delay member `i` (its `delayers`).
+    pub fn delayers_of(&self, i: usize) -> &[usize] {
+        &self.members[i].delayers
+    }
+
+    /// Member indices whose instances make member `i`'s requests rejected.
+    pub fn forbidders_of(&self, i: usize) -> &[usize] {
+        &self.members[i].forbidders
+    }
+
+    /// Whether member `i` lists itself in `stops` (its requests are
+    /// accepted while it has an instance).
+    pub fn stops_itself(&self, i: usize) -> bool {
+        self.members[i].self_stop
     }
 
     /// The component's init service.

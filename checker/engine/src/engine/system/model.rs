@@ -65,6 +65,10 @@ impl Model for System<'_> {
         !(self.pre_init && cfg.init_done)
     }
 
+    fn finished(&self) -> bool {
+        self.all_found()
+    }
+
     fn reduce(&self, cfg: &Config, actions: &mut [Action]) -> usize {
         match &self.reduction {
             Some(r) => r.stubborn(self, cfg, actions),
