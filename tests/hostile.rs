@@ -265,7 +265,10 @@ fn the_time_limit_bounds_every_phase_of_a_huge_component() {
         assert!(codes.contains(&"incomplete".to_owned()), "{codes:?}");
         // A generous bound: the limit is 2 s, one item or transition more
         // may run after it.
-        assert!(took.as_secs() < 120, "{took:?} for --timeout {limit} {extra:?}");
+        assert!(
+            took.as_secs() < 120,
+            "{took:?} for --timeout {limit} {extra:?}"
+        );
     }
 }
 
