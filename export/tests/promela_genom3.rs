@@ -75,7 +75,13 @@ fn the_genom3_model_is_deterministic_and_names_every_state_and_service() {
         );
         let c = result.component.as_ref().expect("a component");
         let g = c.genom3.as_deref().expect("GenoM3");
+        let activities = c.services.values().any(|s| s.thread.is_some());
         for s in c.services.values() {
+            // `abort_activity` succeeds only on an instance: with no
+            // activity it never does (f7_attribute_copy, f9_fifo).
+            if s.name.name == "abort_activity" && !activities {
+                continue;
+            }
             let accepted = format!("service `{}` is accepted */", s.name.name);
             let starts = format!("service `{}` starts */", s.name.name);
             assert!(
