@@ -442,10 +442,9 @@ impl<'a> TimedEngine<'a> {
                 }
                 let k = self.locks.key(who.owner(), i.state);
                 if self.locks.is_async(k) {
-                    // No lock, no ticket (7.2).
-                    if !queued {
-                        out.push(TG3Action::Begin(who, i.pack()));
-                    }
+                    // No lock, no ticket (7.2); a queued task was skipped
+                    // above (an `async` codel never holds the ticket).
+                    out.push(TG3Action::Begin(who, i.pack()));
                     continue;
                 }
                 match Self::turn(st, t as u8, self.locks_free(st, Some(t), k)) {
@@ -467,20 +466,23 @@ impl<'a> TimedEngine<'a> {
         }
     }
 
-    /// The codels of the threads queued up to and including `th`, oldest
-    /// first: those it waits behind, and its own.
-    pub fn queued_codels(&self, st: &TG3State, th: u8) -> Vec<(Option<usize>, usize)> {
+    /// The instance task `t` holds its ticket for, if any.
+    pub fn ticket_of(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
+        self.instances(g, t)
+            .into_iter()
+            .find(|(_, i)| i.has(mark::TICKET))
+    }
+
+    /// The codels (keys) of the threads queued up to and including `th`,
+    /// oldest first: those it waits behind, and its own.
+    pub fn queued_codels(&self, st: &TG3State, th: u8) -> Vec<usize> {
         let mut out = Vec::new();
         for &u in &st.queue {
             if u == CTL {
-                out.extend(self.ctl_codel(st).map(|k| (None, k)));
+                out.extend(self.ctl_codel(st));
             } else {
-                let t = usize::from(u);
-                let ticket = self
-                    .instances(&st.g, t)
-                    .into_iter()
-                    .find(|(_, i)| i.has(mark::TICKET));
-                out.extend(ticket.map(|(w, i)| (Some(t), self.locks.key(w.owner(), i.state))));
+                let ticket = self.ticket_of(&st.g, usize::from(u));
+                out.extend(ticket.map(|(w, i)| self.locks.key(w.owner(), i.state)));
             }
             if u == th {
                 break;

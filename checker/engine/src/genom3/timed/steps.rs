@@ -208,7 +208,7 @@ impl TimedEngine<'_> {
             .holders(st, Some(t))
             .into_iter()
             .filter(|&(j, _, _)| {
-                queued.is_empty() || queued.iter().any(|&(_, k)| self.locks.excludes(k, j))
+                queued.is_empty() || queued.iter().any(|&k| self.locks.excludes(k, j))
             })
             .collect();
         if holders.is_empty() {
@@ -288,9 +288,7 @@ impl TimedEngine<'_> {
             if u == CTL {
                 n.ctl.is_some_and(|c| !c.running)
             } else {
-                self.instances(&n.g, usize::from(u))
-                    .iter()
-                    .any(|(_, i)| i.has(mark::TICKET))
+                self.ticket_of(&n.g, usize::from(u)).is_some()
             }
         };
         let kept: Vec<u8> = n.queue.iter().copied().filter(|&u| holds(u)).collect();

@@ -414,12 +414,10 @@ impl<'m, 'c> Sim<'m, 'c> {
         out
     }
 
-    /// Whether a due instance of task `t` may begin now (its locks free).
-    fn free(&self, t: usize, i: &Inst) -> bool {
-        let k = Codel::Fsm(i.owner, i.state);
-        self.holders(Some(t))
-            .iter()
-            .all(|&(j, _)| !self.waits(k, j))
+    /// Whether codel `k` of thread `th` (`None`: control) must wait: a
+    /// codel it waits for runs on another thread.
+    fn held(&self, th: Option<usize>, k: Codel) -> bool {
+        self.holders(th).iter().any(|&(j, _)| self.waits(k, j))
     }
 
     /// The control codels of `sid` shown in traces: those that contend a
@@ -524,7 +522,7 @@ impl<'m, 'c> Sim<'m, 'c> {
         let Some(k) = self.ticket_codel(head) else {
             return Ok(());
         };
-        if self.holders(head).iter().any(|&(j, _)| self.waits(k, j)) {
+        if self.held(head, k) {
             return Ok(());
         }
         let who = head.map_or("the control thread".to_owned(), |t| {

@@ -376,7 +376,8 @@ impl Sim<'_, '_> {
         let p = self
             .find(s, |i| i.due)
             .map_err(|e| format!("{e} (due in the task's sweep)"))?;
-        if self.queue.is_empty() && self.free(t, &self.insts[p]) {
+        let k = Codel::Fsm(self.insts[p].owner, self.insts[p].state);
+        if self.queue.is_empty() && !self.held(Some(t), k) {
             return Err("the codel may begin now (its locks are free, no ticket is queued)".into());
         }
         self.insts[p].ticket = true;
@@ -392,8 +393,7 @@ impl Sim<'_, '_> {
         if self.queue.contains(&None) {
             return Err("the control thread already holds a ticket".into());
         }
-        let held = self.holders(None).iter().any(|&(j, _)| self.waits(k, j));
-        if self.queue.is_empty() && !held {
+        if self.queue.is_empty() && !self.held(None, k) {
             return Err(
                 "the control codel may begin now (its locks are free, no ticket is queued)".into(),
             );
