@@ -148,6 +148,14 @@ pub struct CheckArgs {
     #[arg(long)]
     pub no_reduction: bool,
 
+    /// Which engine explores the untimed clusters: `explicit` (states one
+    /// by one, with the partial-order reduction), `symbolic` (BDDs), or
+    /// `auto`: explicit, then symbolic for a cluster the explicit engine
+    /// could not finish within the state or memory limit (docs/limits.md).
+    /// The statistics say which decided each cluster.
+    #[arg(long, value_enum, default_value_t = EngineArg::Auto)]
+    pub engine: EngineArg,
+
     /// GenoM3: explore up to N instances of one activity at once (at most 31,
     /// GenoM3's slots per task). One gives the untimed verdicts exactly;
     /// more only cross-checks that [default: 1, or `genom-check.toml`'s].
@@ -196,6 +204,27 @@ impl InputArgs {
             }),
             include_dirs: self.include_dirs.clone(),
             wcet_file: self.wcet.clone(),
+        }
+    }
+}
+
+/// The engines `--engine` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EngineArg {
+    /// Explicit, then symbolic for a cluster the explicit engine could not finish.
+    Auto,
+    /// The explicit explorer only.
+    Explicit,
+    /// The symbolic (BDD) engine.
+    Symbolic,
+}
+
+impl From<EngineArg> for genom_checker::Engine {
+    fn from(e: EngineArg) -> Self {
+        match e {
+            EngineArg::Auto => genom_checker::Engine::Auto,
+            EngineArg::Explicit => genom_checker::Engine::Explicit,
+            EngineArg::Symbolic => genom_checker::Engine::Symbolic,
         }
     }
 }

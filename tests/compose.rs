@@ -6,7 +6,8 @@
 //! interleaving establishes — the codels run, the services started, the
 //! deadlocks, starvations, unbounded interrupts and dead services — and
 //! each trace they give must replay against the semantics and show its
-//! verdict.
+//! verdict. So must the symbolic (BDD) engine, alone (`--engine symbolic`)
+//! and after an explicit exploration that a limit stopped (`--engine auto`).
 
 #![allow(clippy::expect_used)] // test support code
 
@@ -14,7 +15,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
-use genom_checker::engine::{Analysis, Limits, Method, analyse_using, analyse_with};
+use genom_checker::engine::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
+use genom_model::stats::Method as Decider;
 use genom_checker::replay::{Claim, replay_claim};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
@@ -114,7 +116,13 @@ fn compare(cfg: &GeneratorConfig) -> Option<u64> {
 /// one; `None` when the exhaustive one does not finish within its limit.
 /// Returns the reduced analysis and the exhaustive one's state count.
 fn compare_using(cfg: &GeneratorConfig, method: Method) -> Option<(Analysis, u64)> {
+    compare_within(cfg, method, Limits::default())
+}
+
+/// [`compare_using`], the analysis by `method` within `limits`.
+fn compare_within(cfg: &GeneratorConfig, method: Method, limits: Limits) -> Option<(Analysis, u64)> {
     let c = component(cfg);
+    let within = limits;
     let limits = Limits {
         max_states: 400_000,
         ..Limits::default()
@@ -123,7 +131,7 @@ fn compare_using(cfg: &GeneratorConfig, method: Method) -> Option<(Analysis, u64
     if full.stopped.is_some() {
         return None;
     }
-    let reduced = analyse_using(&c, Limits::default(), method);
+    let reduced = analyse_using(&c, within, method);
     assert!(
         reduced.stopped.is_none(),
         "seed {}: reduced incomplete",
@@ -318,4 +326,66 @@ fn the_stubborn_sets_alone_agree_with_exhaustive_exploration() {
     assert!(compared >= 60, "only {compared} components compared");
     println!("stubborn sets alone: {compared} compared, {pruned} pruned");
     assert!(pruned >= 10, "only {pruned} components pruned");
+}
+
+/// Whether `a` records a finished symbolic exploration of a cluster of
+/// more than one service.
+fn decided_symbolically(a: &Analysis) -> bool {
+    a.decided
+        .iter()
+        .any(|d: &Decided| d.method == Decider::Symbolic && d.complete && d.services.len() > 1)
+}
+
+/// `--engine symbolic`: every cluster explored with BDDs gives the
+/// exhaustive exploration's facts, and traces that replay.
+#[test]
+fn the_symbolic_engine_agrees_with_exhaustive_exploration() {
+    let (mut compared, mut symbolic) = (0, 0);
+    for seed in 0..40u64 {
+        let cfg = shaped(
+            seed,
+            3 + (seed % 5) as usize,
+            1 + (seed % 3) as usize,
+            1 + (seed % 3) as usize,
+            (seed % 9) as f64 / 4.0,
+        );
+        if let Some((a, _)) = compare_using(&cfg, Method::Symbolic) {
+            compared += 1;
+            symbolic += usize::from(decided_symbolically(&a));
+            assert!(
+                a.decided.iter().all(|d| d.method != Decider::Reduced),
+                "seed {seed}: a cluster was explored explicitly: {:?}",
+                a.decided
+            );
+        }
+    }
+    println!("symbolic: {compared} compared, {symbolic} with a cluster decided symbolically");
+    assert!(compared >= 30, "only {compared} components compared");
+    assert!(symbolic >= 15, "only {symbolic} decided symbolically");
+}
+
+/// `--engine auto`: a cluster the explicit explorer cannot finish within
+/// the state limit is finished by the symbolic engine, with the exhaustive
+/// exploration's facts; `--engine explicit` stops there, `incomplete`.
+#[test]
+fn auto_finishes_symbolically_what_the_state_limit_stops() {
+    let mut cfg = GeneratorConfig::new(6, 5);
+    (cfg.codels_per_service, cfg.threads, cfg.rule_density) = (4, 2, 1.0);
+    (cfg.init, cfg.autos) = (true, 1);
+    let limits = Limits {
+        max_states: 200,
+        ..Limits::default()
+    };
+    let explicit = analyse_using(&component(&cfg), limits, Method::Explicit);
+    assert!(explicit.stopped.is_some(), "the state limit stops the explicit engine");
+    assert!(!decided_symbolically(&explicit));
+    let (auto, full) = compare_within(&cfg, Method::Auto, limits).expect("exhaustive finishes");
+    assert!(decided_symbolically(&auto), "{:?}", auto.decided);
+    let first = auto.decided.iter().position(|d| d.services.len() > 1);
+    assert!(
+        first.is_some_and(|k| !auto.decided[k].complete && auto.decided[k].method != Decider::Symbolic),
+        "the explicit attempt is recorded first: {:?}",
+        auto.decided
+    );
+    assert!(auto.states >= full, "the symbolic set holds every reachable state");
 }

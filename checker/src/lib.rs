@@ -13,5 +13,5 @@ mod verify_genom3;
 pub use genom_engine::{engine, genom3, replay, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};
-pub use verify::{CheckOptions, DEFAULT_MAX_INSTANCES, Verdicts, verify};
+pub use verify::{CheckOptions, DEFAULT_MAX_INSTANCES, Engine, Verdicts, verify};
 pub use verify_genom3::{Genom3Verdicts, verify_genom3};

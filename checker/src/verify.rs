@@ -9,7 +9,23 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic, ResponseTime, Severity, Statistics, sort_diagnostics};
 
-use crate::engine::Limits;
+use genom_model::stats::{Decision, Method as Decider};
+
+use crate::engine::{Limits, Method};
+
+/// `--engine`: which engine explores the untimed clusters
+/// (`engine::method`; timed components always use the zone engine).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Engine {
+    /// The explicit explorer, and the symbolic one for a cluster it could
+    /// not finish within the state or memory limit.
+    #[default]
+    Auto,
+    /// The explicit explorer only.
+    Explicit,
+    /// The symbolic (BDD) engine for every cluster it accepts.
+    Symbolic,
+}
 
 /// The default of `--max-instances`: one instance of each activity at a
 /// time, which gives the untimed GenoM3 verdicts exactly (instances of one
@@ -26,6 +42,7 @@ pub struct CheckOptions {
     max_memory: usize,
     behaviour: bool,
     reduction: bool,
+    engine: Engine,
     max_instances: usize,
     deadlines: BTreeMap<String, u64>,
     response_times: bool,
@@ -39,6 +56,7 @@ impl Default for CheckOptions {
             max_memory: 8 << 30,
             behaviour: true,
             reduction: true,
+            engine: Engine::Auto,
             max_instances: DEFAULT_MAX_INSTANCES,
             deadlines: BTreeMap::new(),
             response_times: false,
@@ -87,6 +105,25 @@ impl CheckOptions {
     pub fn reduction(mut self, on: bool) -> Self {
         self.reduction = on;
         self
+    }
+
+    /// `--engine`: which engine explores the untimed clusters.
+    #[must_use]
+    pub fn engine(mut self, engine: Engine) -> Self {
+        self.engine = engine;
+        self
+    }
+
+    /// The exploration method of the untimed analysis: `--no-reduction`
+    /// makes the explicit engine explore every interleaving (and leaves the
+    /// symbolic one as it is).
+    pub fn method(&self) -> Method {
+        match (self.engine, self.reduction) {
+            (Engine::Symbolic, _) => Method::Symbolic,
+            (_, false) => Method::Exhaustive,
+            (Engine::Auto, true) => Method::Auto,
+            (Engine::Explicit, true) => Method::Explicit,
+        }
     }
 
     /// GenoM3: the most instances of one activity explored at once (then
@@ -228,7 +265,7 @@ pub fn verify(
             }
             analysis
         } else {
-            crate::engine::analyse_with(c, options.limits(started), options.reduction)
+            crate::engine::analyse_using(c, options.limits(started), options.method())
         };
         diagnostics.extend(crate::checks::behaviour(c, &analysis));
         statistics = Some(Statistics {
@@ -237,6 +274,7 @@ pub fn verify(
             time_ms: 0.0,
             complete: analysis.stopped.is_none(),
             bytes_per_state: Some(analysis.bytes_per_state),
+            decided_by: decisions(c, &analysis),
         });
     }
     sort_diagnostics(&mut diagnostics);
@@ -249,6 +287,28 @@ pub fn verify(
         statistics,
         response_times,
     }
+}
+
+/// What decided each part: the untimed analysis's record, or one zone
+/// exploration of the whole component (the timed engine explores its
+/// clusters with zones alike).
+fn decisions(c: &Component, analysis: &crate::engine::Analysis) -> Vec<Decision> {
+    let names = |services: &[ServiceId]| -> Vec<String> {
+        services
+            .iter()
+            .map(|&s| c.services[s].name.name.clone())
+            .collect()
+    };
+    if analysis.decided.is_empty() {
+        let all: Vec<ServiceId> = c.services.ids().collect();
+        let complete = analysis.stopped.is_none();
+        return vec![Decision::new(names(&all), Decider::Zones, analysis.states, complete)];
+    }
+    analysis
+        .decided
+        .iter()
+        .map(|d| Decision::new(names(&d.services), d.method, d.states, d.complete))
+        .collect()
 }
 
 /// The worst-case response times and the deadline verdicts, computed by

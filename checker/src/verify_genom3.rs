@@ -12,6 +12,7 @@ use std::time::Instant;
 
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Diagnostic, ResponseTime, Statistics, Trace};
+use genom_model::stats::{Decision, Method as Decider};
 
 use crate::checks::{
     dead_service, incomplete, livelock, response_time, thread_overrun, unreachable_codel,
@@ -57,9 +58,22 @@ pub fn verify_genom3(
         ));
     }
     let (mut states, mut transitions) = (analysis.states, analysis.transitions);
+    let all: Vec<String> = c.services.iter().map(|(_, s)| s.name.name.clone()).collect();
+    let mut decided_by = vec![Decision::new(
+        all.clone(),
+        Decider::Exhaustive,
+        analysis.states,
+        analysis.stopped.is_none(),
+    )];
     if gives_timing(&m) {
         match analyse_timing(&m, options.limits(started)) {
             Some(timing) => {
+                decided_by.push(Decision::new(
+                    all,
+                    Decider::Zones,
+                    timing.states,
+                    timing.stopped.is_none(),
+                ));
                 out.extend(thread_overrun::check_genom3(&m, &timing));
                 if let Some(stop) = timing.stopped {
                     out.push(incomplete::incomplete(
@@ -105,6 +119,7 @@ pub fn verify_genom3(
         time_ms: started.elapsed().as_secs_f64() * 1000.0,
         complete: out.iter().all(|d| d.code != genom_model::Code::Incomplete),
         bytes_per_state: Some(analysis.bytes_per_state),
+        decided_by,
     };
     Some(Genom3Verdicts {
         diagnostics: out,

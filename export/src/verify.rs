@@ -194,6 +194,7 @@ mod tests {
             time_ms: 1.0,
             complete: true,
             bytes_per_state: None,
+            decided_by: Vec::new(),
         };
         let v = Verification::of(None, &diagnostics, Some(&stats), "1.2.3");
         assert!(!v.verified);

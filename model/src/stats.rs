@@ -1,5 +1,6 @@
 //! Verification statistics reported next to the diagnostics: how much of the
-//! state space was explored and how long it took.
+//! state space was explored, how long it took, and which engine decided
+//! each part of the component.
 
 use serde::Serialize;
 
@@ -16,4 +17,98 @@ pub struct Statistics {
     pub complete: bool,
     /// Bytes per stored state (encoding plus hash-table overhead).
     pub bytes_per_state: Option<f64>,
+    /// What explored each part of the component, in exploration order.
+    pub decided_by: Vec<Decision>,
+}
+
+impl Statistics {
+    /// The engines that decided, in a fixed order, joined by `+`:
+    /// `explicit`, `symbolic`, `explicit+symbolic`, `zones`.
+    pub fn engines(&self) -> String {
+        let mut names: Vec<&str> = self.decided_by.iter().map(|d| d.method.engine()).collect();
+        names.sort_unstable();
+        names.dedup();
+        names.join("+")
+    }
+}
+
+/// How one part of the component (a cluster of services that interact, or
+/// the initialisation phase) was explored.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Decision {
+    /// The services explored, by name.
+    pub services: Vec<String>,
+    /// How.
+    pub method: Method,
+    /// The engine: `explicit`, `symbolic` or `zones`.
+    pub engine: &'static str,
+    /// States stored (symbolic: configurations in the reachable set).
+    pub states: u64,
+    /// Whether that exploration finished.
+    pub complete: bool,
+}
+
+impl Decision {
+    /// A record of `method` over `services`.
+    pub fn new(services: Vec<String>, method: Method, states: u64, complete: bool) -> Self {
+        Decision {
+            services,
+            method,
+            engine: method.engine(),
+            states,
+            complete,
+        }
+    }
+}
+
+/// An exploration method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Explicit, every interleaving.
+    Exhaustive,
+    /// Explicit, with the partial-order reduction.
+    Reduced,
+    /// Explicit, part by part (compositional).
+    Compositional,
+    /// Symbolic: the reachable set as a BDD.
+    Symbolic,
+    /// Timed: explicit discrete states with clock zones.
+    Zones,
+}
+
+impl Method {
+    /// The engine the method belongs to.
+    pub fn engine(self) -> &'static str {
+        match self {
+            Method::Exhaustive | Method::Reduced | Method::Compositional => "explicit",
+            Method::Symbolic => "symbolic",
+            Method::Zones => "zones",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn engines_are_listed_once_in_a_fixed_order() {
+        let d = |m| Decision::new(vec!["a".to_owned()], m, 1, true);
+        let s = Statistics {
+            decided_by: vec![
+                d(Method::Symbolic),
+                d(Method::Reduced),
+                d(Method::Compositional),
+            ],
+            ..Statistics::default()
+        };
+        assert_eq!(s.engines(), "explicit+symbolic");
+        assert_eq!(Statistics::default().engines(), "");
+        let json = serde_json::to_string(&d(Method::Compositional)).ok();
+        assert_eq!(
+            json.as_deref(),
+            Some(r#"{"services":["a"],"method":"compositional","engine":"explicit","states":1,"complete":true}"#)
+        );
+    }
 }

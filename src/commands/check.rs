@@ -6,7 +6,7 @@ use genom_model::render::{FileReport, github, human, json, sarif};
 use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
-use crate::cli::{CheckArgs, Deny, Format, OutputArgs};
+use crate::cli::{CheckArgs, Deny, EngineArg, Format, OutputArgs};
 use crate::config::{self, Config};
 use crate::{suppress, terminal};
 
@@ -16,6 +16,12 @@ const DEFAULT_MAX_STATES: usize = 10_000_000;
 
 /// Checks every file, prints, and returns the exit status.
 pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
+    if args.no_reduction && args.engine == EngineArg::Symbolic {
+        eprintln!(
+            "error: `--no-reduction` turns off the explicit engine's reductions; `--engine symbolic` has none (use `--engine explicit --no-reduction`)"
+        );
+        return EXIT_USAGE;
+    }
     let mut unread: Vec<json::JsonUnread> = Vec::new();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     for path in &args.files {
@@ -107,6 +113,7 @@ fn effective(
         .max_memory(args.max_memory)
         .behaviour(!args.static_only)
         .reduction(!args.no_reduction)
+        .engine(args.engine.into())
         .max_instances(
             args.max_instances
                 .or(config.and_then(|c| c.max_instances))
@@ -219,14 +226,24 @@ pub(super) fn summary_line(report: &FileReport<'_>) -> String {
     };
     if let Some(s) = report.statistics {
         line.push_str(&format!(
-            " ({} states, {} transitions, {:.1} ms{})",
+            " ({} states, {} transitions, {:.1} ms{}{})",
             s.states,
             s.transitions,
             s.time_ms,
+            engines(s),
             if s.complete { "" } else { ", incomplete" }
         ));
     }
     line
+}
+
+/// `, symbolic` when the symbolic engine decided some part (the explicit
+/// engine, the default, goes unsaid).
+fn engines(s: &genom_model::Statistics) -> String {
+    match s.engines().as_str() {
+        "" | "explicit" | "zones" => String::new(),
+        e => format!(", {e}"),
+    }
 }
 
 fn exit_status(reports: &[FileReport<'_>], deny: Option<Deny>, io_failed: bool) -> u8 {

@@ -8,11 +8,13 @@ use std::time::Duration;
 
 use genom_model::behaviour::{Behaviour, IDLE};
 use genom_model::component::{CodelId, Component, ServiceId};
+use genom_model::stats::Method as Decider;
 use genom_model::trace::{Event, Trace, TraceStep};
 
 pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
+use super::method::{Decided, Method, decide_cluster};
 use super::pending::pending_cycle;
 use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
@@ -97,6 +99,8 @@ pub struct Analysis {
     /// Parts explored compositionally (clusters split by
     /// [`super::compose`]).
     pub parts: u64,
+    /// What explored each cluster, in order.
+    pub decided: Vec<Decided>,
     /// Services not started in their exploration, with why and a trace
     /// (they are dead unless another exploration starts them).
     dead_candidates: BTreeMap<ServiceId, Blocked>,
@@ -171,24 +175,6 @@ pub fn analyse(c: &Component, limits: Limits) -> Analysis {
     analyse_with(c, limits, true)
 }
 
-/// How the clusters are explored (every method gives the same verdicts).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    /// Every interleaving of each whole cluster (`--no-reduction`).
-    Exhaustive,
-    /// The default: each cluster whole with the partial-order reduction
-    /// within a share of the budget, then part by part, then whole.
-    Auto,
-    /// Part by part first (compositional exploration), then whole with the
-    /// partial-order reduction.
-    PartsFirst,
-    /// Whole, with the partial-order reduction only.
-    Reduced,
-    /// Whole, with the stubborn sets of the partial-order reduction alone:
-    /// no probes, no stop once every fact is found (for tests).
-    StubbornOnly,
-}
-
 /// [`analyse`], with partial-order reduction (`reduce`) or exploring every
 /// interleaving.
 pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
@@ -214,28 +200,14 @@ pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis 
     };
     match post_init {
         Some(true) => {
+            let whole = Whole {
+                c,
+                b: &b,
+                prefix: &prefix,
+                global: &global,
+            };
             for cluster in clusters(c) {
-                let whole = Whole {
-                    c,
-                    b: &b,
-                    prefix: &prefix,
-                    global: &global,
-                };
-                if method == Method::Auto
-                    && first_try_whole(&whole, &cluster, &mut budget, &mut out)
-                {
-                    continue;
-                }
-                let parts = matches!(method, Method::Auto | Method::PartsFirst);
-                if !(parts && explore_parts(&whole, &cluster, &mut budget, &mut out)) {
-                    let sys = System::new(c, &b, &cluster, false);
-                    let sys = match method {
-                        Method::Exhaustive => sys,
-                        Method::StubbornOnly => sys.with_stubborn_sets_only(),
-                        _ => sys.with_reduction(),
-                    };
-                    explore_cluster(&sys, &prefix, &global, &mut budget, &mut out);
-                }
+                out.absorb(decide_cluster(&whole, &cluster, method, &mut budget));
             }
         }
         Some(false) => {}
@@ -259,6 +231,12 @@ fn pre_init(
     let mut found = Found::default();
     let e = explore(&sys, *budget, |id, cfg| visit(&sys, id, cfg, &mut found));
     out.account(budget, &e);
+    out.decided.push(Decided {
+        services: vec![init],
+        method: Decider::Exhaustive,
+        states: e.store.len() as u64,
+        complete: e.stopped.is_none(),
+    });
     let prefix = found
         .init_success
         .map(|id| e.store.path(id))
@@ -289,7 +267,7 @@ fn pre_init(
     (prefix, post)
 }
 
-fn explore_cluster(
+pub(super) fn explore_cluster(
     sys: &System<'_>,
     prefix: &[Action],
     global: &System<'_>,
@@ -338,7 +316,7 @@ const WHOLE_FIRST_SHARE: usize = 4;
 /// Explores the cluster whole with the partial-order reduction, within a
 /// share of the budget; `true`, with the results in `out`, when it
 /// finished (the states it stored are charged to the budget either way).
-fn first_try_whole(
+pub(super) fn first_try_whole(
     w: &Whole<'_>,
     cluster: &[ServiceId],
     budget: &mut Limits,
@@ -364,13 +342,13 @@ fn first_try_whole(
 }
 
 /// What every exploration of a cluster shares.
-struct Whole<'w> {
-    c: &'w Component,
-    b: &'w Behaviour,
+pub(super) struct Whole<'w> {
+    pub(super) c: &'w Component,
+    pub(super) b: &'w Behaviour,
     /// The path to the end of initialisation.
-    prefix: &'w [Action],
+    pub(super) prefix: &'w [Action],
     /// The whole component, to replay traces in.
-    global: &'w System<'w>,
+    pub(super) global: &'w System<'w>,
 }
 
 /// Largest environment automaton kept between parts.
@@ -383,7 +361,7 @@ const CONCRETE_MAX_STATES: usize = 1_000_000;
 /// `out` untouched, when the cluster has one part, an interface is too wide,
 /// an environment too large, or a part's witness cannot be made concrete:
 /// the caller then explores the cluster whole.
-fn explore_parts(
+pub(super) fn explore_parts(
     w: &Whole<'_>,
     cluster: &[ServiceId],
     budget: &mut Limits,
@@ -505,6 +483,7 @@ impl Analysis {
         }
         self.reduced += other.reduced;
         self.parts += other.parts;
+        self.decided.extend(other.decided);
         for (s, b) in other.dead_candidates {
             self.dead_candidates.entry(s).or_insert(b);
         }

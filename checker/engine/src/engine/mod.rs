@@ -18,6 +18,7 @@
 
 pub mod analysis;
 mod clusters;
+pub mod method;
 pub mod compose;
 pub mod explore;
 mod pending;
@@ -30,5 +31,6 @@ pub(crate) mod witness;
 #[cfg(test)]
 mod speed_tests;
 
-pub use analysis::{Analysis, Blocked, Method, analyse, analyse_using, analyse_with};
+pub use analysis::{Analysis, Blocked, analyse, analyse_using, analyse_with};
+pub use method::{Decided, Method};
 pub use explore::{Limits, Stop};

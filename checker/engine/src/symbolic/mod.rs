@@ -13,14 +13,17 @@
 //! properties beyond these state predicates are not computed here.
 //!
 //! Measured (example `symbolic_figures`), this engine is exact but slower
-//! than the explicit explorer on the issue-14 components, so `verify` does
-//! not call it yet: it is a library with differential tests.
+//! than the explicit explorer on the issue-14 components: `--engine auto`
+//! (the default) calls it only for a cluster the explicit explorer could
+//! not finish within its state or memory limit, `--engine symbolic` for
+//! every cluster ([`analyse_cluster`], `engine::method`).
 //!
 //! The BDD library is `biodivine-lib-bdd`: pure Rust (no system library,
 //! no `unsafe` in our code), maintained, with the operations needed here
 //! (quantification, exact model counting, witnesses). Each BDD owns its
 //! nodes, so the node counts reported are those of the reachable set.
 
+mod analysis;
 mod image;
 mod layout;
 #[cfg(test)]
@@ -35,6 +38,7 @@ use biodivine_lib_bdd::Bdd;
 use crate::engine::explore::{Model, Stop};
 use crate::engine::system::{Action, Config, System};
 
+pub(crate) use analysis::analyse_cluster;
 pub use layout::Refusal;
 pub use verdicts::{SymbolicDeadlock, Verdicts};
 
@@ -58,6 +62,9 @@ pub struct SymbolicLimits {
     pub deadline: Option<Instant>,
     /// Stop when the reachable set's BDD has more nodes than this.
     pub max_nodes: usize,
+    /// `--max-memory`: stop when the process's heap reaches its soft bound
+    /// ([`genom_model::limits::soft_bound`]).
+    pub max_bytes: usize,
 }
 
 impl Default for SymbolicLimits {
@@ -66,6 +73,7 @@ impl Default for SymbolicLimits {
             strategy: Strategy::Breadth,
             deadline: None,
             max_nodes: 50_000_000,
+            max_bytes: 8 << 30,
         }
     }
 }
@@ -184,7 +192,9 @@ impl<'s, 'a> Symbolic<'s, 'a> {
         r.reached = r.reached.or(&new);
         r.peak_nodes = r.peak_nodes.max(r.reached.size()).max(new.size());
         r.layers.push(Layer { set: new, step });
-        if r.peak_nodes > limits.max_nodes {
+        let heap = genom_model::limits::heap::in_use();
+        if r.peak_nodes > limits.max_nodes || heap >= genom_model::limits::soft_bound(limits.max_bytes)
+        {
             return Some(Stop::Memory);
         }
         genom_model::limits::out_of_time(limits.deadline).then_some(Stop::Time)

@@ -97,6 +97,12 @@ impl Symbolic<'_, '_> {
         out
     }
 
+    /// A shortest explicit path to a reached configuration where member
+    /// `i` has a pending instance, and that configuration.
+    pub fn pending_witness(&self, reach: &Reach, i: usize) -> Option<(Vec<Action>, Config)> {
+        self.trace_to(reach, &self.layout.pend(i))
+    }
+
     /// Member `i`'s positions satisfying `keep` (idle excluded).
     fn positions(&self, i: usize, keep: impl Fn(PosId) -> bool) -> Bdd {
         let l = &self.layout;

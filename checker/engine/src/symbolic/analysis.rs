@@ -1,0 +1,89 @@
+//! The symbolic engine as a method of the analysis: one cluster's
+//! reachable set is computed with BDDs, and its verdicts are handed to the
+//! explicit analysis's own reading (`engine::analysis::visit` and
+//! `collect`), so that the diagnostics, their wording and their traces are
+//! the explicit engine's.
+//!
+//! Each verdict of the reachable set comes with a witness configuration
+//! and a shortest explicit path to it ([`Symbolic::trace_to`]); the
+//! explicit reading is run on those configurations only (the initial one,
+//! one per deadlock, starvation, unbounded interrupt and never-started
+//! pending service), and the codels reached and services started are the
+//! reachable set's. Every trace is then replayed in the whole component,
+//! after the initialisation prefix, as the explicit engine's are.
+
+use genom_model::component::ServiceId;
+use genom_model::trace::TraceStep;
+
+use super::{Refusal, Symbolic, SymbolicLimits};
+use crate::engine::analysis::{Analysis, Found, Witnesses, collect, visit};
+use crate::engine::store::StateId;
+use crate::engine::system::{Action, Config, System};
+use crate::engine::witness::replay;
+
+/// Explores the cluster `sys` (after initialisation, reached by `prefix`
+/// in the whole component `global`) symbolically within `limits`, and adds
+/// its verdicts and figures to `out`. A limit leaves the cluster's services
+/// unproven, as in the explicit engine. `Err` when the symbolic layout
+/// refuses the cluster (nothing is added).
+pub(crate) fn analyse_cluster(
+    sys: &System<'_>,
+    prefix: &[Action],
+    global: &System<'_>,
+    limits: SymbolicLimits,
+    out: &mut Analysis,
+) -> Result<(), Refusal> {
+    let sym = Symbolic::new(sys)?;
+    let reach = sym.reach(limits);
+    let verdicts = sym.verdicts(&reach, true);
+    let mut paths: Vec<Vec<Action>> = vec![Vec::new()];
+    paths.extend(verdicts.deadlocks.iter().map(|d| d.path.clone()));
+    paths.extend(verdicts.starvations.values().cloned());
+    paths.extend(verdicts.unbounded.values().cloned());
+    let mut witnesses: Vec<(Vec<Action>, Config)> = paths
+        .into_iter()
+        .filter_map(|p| Some((p.clone(), walk(sys, &sym.init, &p)?)))
+        .collect();
+    for i in 0..sys.len() {
+        let s = sys.service(i);
+        if verdicts.pending.contains(&s) && !verdicts.started.contains(&s) {
+            witnesses.extend(sym.pending_witness(&reach, i));
+        }
+    }
+    let mut found = Found::default();
+    for (id, (_, cfg)) in (0..).zip(&witnesses) {
+        visit(sys, id, cfg, &mut found);
+    }
+    found.reached.extend(verdicts.reached.iter().copied());
+    found.started.extend(verdicts.started.iter().copied());
+    out.states += u64::try_from(reach.states()).unwrap_or(u64::MAX);
+    out.elapsed += reach.elapsed;
+    if let Some(stop) = reach.stopped {
+        out.stopped = out.stopped.or(Some(stop));
+        out.unproven.extend(sys.services());
+    }
+    let at = |id: StateId| witnesses.get(id as usize);
+    let config = |id: StateId| at(id).map_or_else(|| sym.init.clone(), |w| w.1.clone());
+    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
+        let path = at(id).map_or(&[][..], |w| &w.0[..]);
+        let full: Vec<Action> = prefix.iter().chain(path).copied().collect();
+        replay(global, &full, looping, last)
+    };
+    collect(
+        &Witnesses {
+            sys,
+            config: &config,
+            trace: &trace,
+            complete: reach.stopped.is_none(),
+        },
+        &found,
+        out,
+    );
+    Ok(())
+}
+
+/// The configuration `path` leads to from `init`, by the explicit rules.
+fn walk(sys: &System<'_>, init: &Config, path: &[Action]) -> Option<Config> {
+    path.iter()
+        .try_fold(init.clone(), |cfg, &a| sys.apply(&cfg, a, &mut None))
+}
