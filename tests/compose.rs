@@ -16,10 +16,10 @@ use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
 use genom_checker::engine::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
-use genom_model::stats::Method as Decider;
 use genom_checker::replay::{Claim, replay_claim};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
+use genom_model::stats::Method as Decider;
 use genom_model::trace::Trace;
 use genom_parser::FsLoader;
 
@@ -120,7 +120,11 @@ fn compare_using(cfg: &GeneratorConfig, method: Method) -> Option<(Analysis, u64
 }
 
 /// [`compare_using`], the analysis by `method` within `limits`.
-fn compare_within(cfg: &GeneratorConfig, method: Method, limits: Limits) -> Option<(Analysis, u64)> {
+fn compare_within(
+    cfg: &GeneratorConfig,
+    method: Method,
+    limits: Limits,
+) -> Option<(Analysis, u64)> {
     let c = component(cfg);
     let within = limits;
     let limits = Limits {
@@ -377,15 +381,23 @@ fn auto_finishes_symbolically_what_the_state_limit_stops() {
         ..Limits::default()
     };
     let explicit = analyse_using(&component(&cfg), limits, Method::Explicit);
-    assert!(explicit.stopped.is_some(), "the state limit stops the explicit engine");
+    assert!(
+        explicit.stopped.is_some(),
+        "the state limit stops the explicit engine"
+    );
     assert!(!decided_symbolically(&explicit));
     let (auto, full) = compare_within(&cfg, Method::Auto, limits).expect("exhaustive finishes");
     assert!(decided_symbolically(&auto), "{:?}", auto.decided);
     let first = auto.decided.iter().position(|d| d.services.len() > 1);
     assert!(
-        first.is_some_and(|k| !auto.decided[k].complete && auto.decided[k].method != Decider::Symbolic),
+        first.is_some_and(
+            |k| !auto.decided[k].complete && auto.decided[k].method != Decider::Symbolic
+        ),
         "the explicit attempt is recorded first: {:?}",
         auto.decided
     );
-    assert!(auto.states >= full, "the symbolic set holds every reachable state");
+    assert!(
+        auto.states >= full,
+        "the symbolic set holds every reachable state"
+    );
 }

@@ -117,9 +117,15 @@ fn the_human_summary_says_when_the_symbolic_engine_decided() {
     assert_eq!(out.status.code(), Some(1));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains(" ms, symbolic)"), "{text}");
-    let out = genom_check().args(["--engine", "explicit", file]).output().expect("runs");
+    let out = genom_check()
+        .args(["--engine", "explicit", file])
+        .output()
+        .expect("runs");
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("transitions, ") && !text.contains("symbolic"), "{text}");
+    assert!(
+        text.contains("transitions, ") && !text.contains("symbolic"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -128,7 +134,10 @@ fn timed_components_are_decided_with_zones() {
     for engine in ["auto", "symbolic"] {
         let doc = report(engine, file);
         assert_eq!(methods(&doc), ["\"zones\""], "--engine {engine}");
-        assert_eq!(doc["files"][0]["statistics"]["decided_by"][0]["engine"], "zones");
+        assert_eq!(
+            doc["files"][0]["statistics"]["decided_by"][0]["engine"],
+            "zones"
+        );
     }
 }
 

@@ -2,7 +2,8 @@
 //! on hostile inputs and on a 10 MB component, and its peak resident size
 //! (`VmHWM` of `/proc/PID/status`, read while it runs) is checked against
 //! the limit, with its exit status and its message. Linux only (`/proc`).
-//! A timed exploration is run under `--max-memory 1G` (issue 14). Each
+//! A timed exploration is run under `--max-memory 1G`, a symbolic one
+//! under `--max-memory 100M` (issue 14). Each
 //! child's own peak is read, so the two tests may run at once.
 
 #![cfg(target_os = "linux")]
@@ -143,6 +144,18 @@ fn the_process_stays_within_max_memory_on_hostile_and_huge_inputs() {
     expect(d, &args, 1, "memory limit (--max-memory)", 100);
 }
 
+/// Writes the component `genom-check generate ARGS` prints into `dir`.
+fn generated(dir: &Path, name: &str, args: &str) -> String {
+    let path = dir.join(name);
+    let out = Command::new(env!("CARGO_BIN_EXE_genom-check"))
+        .args(args.split_whitespace())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    std::fs::write(&path, &out.stdout).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
 /// Issue 14: a timed exploration that outgrows `--max-memory 1G` (30
 /// services, timed; about 2 GB without a limit) stops with `incomplete`,
 /// naming the memory limit, at about 1.1 GB resident at most.
@@ -150,20 +163,32 @@ fn the_process_stays_within_max_memory_on_hostile_and_huge_inputs() {
 fn a_timed_exploration_stops_within_one_gigabyte() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let path = d.join("t30.gen");
     let args = "generate --seed 1 --services 30 --codels 5 --threads 4 --init --autos 1 --timed";
-    let out = Command::new(env!("CARGO_BIN_EXE_genom-check"))
-        .args(args.split_whitespace())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(0));
-    std::fs::write(&path, &out.stdout).unwrap();
-    let args = ["--max-memory", "1G", path.to_str().unwrap()];
+    let path = generated(d, "t30.gen", args);
+    let args = ["--max-memory", "1G", path.as_str()];
     expect(
         d,
         &args,
         1,
         "the memory limit (--max-memory) was reached",
         1126,
+    );
+}
+
+/// Issue 14: the symbolic engine's BDDs count against `--max-memory` too
+/// (20 services at density 1: about 260 MB after 30 s without a limit).
+#[test]
+fn a_symbolic_exploration_stops_within_its_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = "generate --seed 1 --services 20 --codels 5 --threads 3 --density 1 --init --autos 1";
+    let path = generated(d, "d1.gen", args);
+    let args = ["--engine", "symbolic", "--max-memory", "100M", path.as_str()];
+    expect(
+        d,
+        &args,
+        1,
+        "the memory limit (--max-memory) was reached",
+        110,
     );
 }

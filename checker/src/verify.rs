@@ -302,7 +302,12 @@ fn decisions(c: &Component, analysis: &crate::engine::Analysis) -> Vec<Decision>
     if analysis.decided.is_empty() {
         let all: Vec<ServiceId> = c.services.ids().collect();
         let complete = analysis.stopped.is_none();
-        return vec![Decision::new(names(&all), Decider::Zones, analysis.states, complete)];
+        return vec![Decision::new(
+            names(&all),
+            Decider::Zones,
+            analysis.states,
+            complete,
+        )];
     }
     analysis
         .decided

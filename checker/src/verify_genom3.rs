@@ -11,8 +11,8 @@ use std::collections::BTreeSet;
 use std::time::Instant;
 
 use genom_model::component::{Component, ServiceId};
-use genom_model::{Diagnostic, ResponseTime, Statistics, Trace};
 use genom_model::stats::{Decision, Method as Decider};
+use genom_model::{Diagnostic, ResponseTime, Statistics, Trace};
 
 use crate::checks::{
     dead_service, incomplete, livelock, response_time, thread_overrun, unreachable_codel,
@@ -58,7 +58,11 @@ pub fn verify_genom3(
         ));
     }
     let (mut states, mut transitions) = (analysis.states, analysis.transitions);
-    let all: Vec<String> = c.services.iter().map(|(_, s)| s.name.name.clone()).collect();
+    let all: Vec<String> = c
+        .services
+        .iter()
+        .map(|(_, s)| s.name.name.clone())
+        .collect();
     let mut decided_by = vec![Decision::new(
         all.clone(),
         Decider::Exhaustive,

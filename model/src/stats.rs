@@ -108,7 +108,9 @@ mod tests {
         let json = serde_json::to_string(&d(Method::Compositional)).ok();
         assert_eq!(
             json.as_deref(),
-            Some(r#"{"services":["a"],"method":"compositional","engine":"explicit","states":1,"complete":true}"#)
+            Some(
+                r#"{"services":["a"],"method":"compositional","engine":"explicit","states":1,"complete":true}"#
+            )
         );
     }
 }

@@ -18,9 +18,9 @@
 
 pub mod analysis;
 mod clusters;
-pub mod method;
 pub mod compose;
 pub mod explore;
+pub mod method;
 mod pending;
 pub mod petri_check;
 pub mod reduction;
@@ -32,5 +32,5 @@ pub(crate) mod witness;
 mod speed_tests;
 
 pub use analysis::{Analysis, Blocked, analyse, analyse_using, analyse_with};
-pub use method::{Decided, Method};
 pub use explore::{Limits, Stop};
+pub use method::{Decided, Method};

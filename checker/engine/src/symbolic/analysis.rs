@@ -17,15 +17,17 @@ use genom_model::trace::TraceStep;
 
 use super::{Refusal, Symbolic, SymbolicLimits};
 use crate::engine::analysis::{Analysis, Found, Witnesses, collect, visit};
+use crate::engine::explore::Stop;
 use crate::engine::store::StateId;
 use crate::engine::system::{Action, Config, System};
 use crate::engine::witness::replay;
 
 /// Explores the cluster `sys` (after initialisation, reached by `prefix`
 /// in the whole component `global`) symbolically within `limits`, and adds
-/// its verdicts and figures to `out`. A limit leaves the cluster's services
-/// unproven, as in the explicit engine. `Err` when the symbolic layout
-/// refuses the cluster (nothing is added).
+/// its verdicts and figures to `out`. A limit (during the exploration or
+/// the reading of its verdicts) leaves the cluster's services unproven and
+/// establishes nothing about them. `Err` when the symbolic layout refuses
+/// the cluster (nothing is added).
 pub(crate) fn analyse_cluster(
     sys: &System<'_>,
     prefix: &[Action],
@@ -35,7 +37,19 @@ pub(crate) fn analyse_cluster(
 ) -> Result<(), Refusal> {
     let sym = Symbolic::new(sys)?;
     let reach = sym.reach(limits);
-    let verdicts = sym.verdicts(&reach, true);
+    out.states += u64::try_from(reach.states()).unwrap_or(u64::MAX);
+    out.elapsed += reach.elapsed;
+    let verdicts = match reach.stopped {
+        None => sym.verdicts_until(&reach, true, limits.deadline),
+        // Reading a part of the reachable set costs as much as reading it
+        // all, and proves nothing negative: the cluster stays unproven.
+        Some(_) => None,
+    };
+    let Some(verdicts) = verdicts else {
+        out.stopped = out.stopped.or(reach.stopped).or(Some(Stop::Time));
+        out.unproven.extend(sys.services());
+        return Ok(());
+    };
     let mut paths: Vec<Vec<Action>> = vec![Vec::new()];
     paths.extend(verdicts.deadlocks.iter().map(|d| d.path.clone()));
     paths.extend(verdicts.starvations.values().cloned());
@@ -56,12 +70,6 @@ pub(crate) fn analyse_cluster(
     }
     found.reached.extend(verdicts.reached.iter().copied());
     found.started.extend(verdicts.started.iter().copied());
-    out.states += u64::try_from(reach.states()).unwrap_or(u64::MAX);
-    out.elapsed += reach.elapsed;
-    if let Some(stop) = reach.stopped {
-        out.stopped = out.stopped.or(Some(stop));
-        out.unproven.extend(sys.services());
-    }
     let at = |id: StateId| witnesses.get(id as usize);
     let config = |id: StateId| at(id).map_or_else(|| sym.init.clone(), |w| w.1.clone());
     let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
@@ -74,7 +82,7 @@ pub(crate) fn analyse_cluster(
             sys,
             config: &config,
             trace: &trace,
-            complete: reach.stopped.is_none(),
+            complete: true,
         },
         &found,
         out,

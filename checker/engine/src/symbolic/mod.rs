@@ -193,7 +193,8 @@ impl<'s, 'a> Symbolic<'s, 'a> {
         r.peak_nodes = r.peak_nodes.max(r.reached.size()).max(new.size());
         r.layers.push(Layer { set: new, step });
         let heap = genom_model::limits::heap::in_use();
-        if r.peak_nodes > limits.max_nodes || heap >= genom_model::limits::soft_bound(limits.max_bytes)
+        if r.peak_nodes > limits.max_nodes
+            || heap >= genom_model::limits::soft_bound(limits.max_bytes)
         {
             return Some(Stop::Memory);
         }

@@ -13,8 +13,11 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use std::time::Instant;
+
 use biodivine_lib_bdd::Bdd;
 use genom_model::behaviour::{IDLE, PosId};
+use genom_model::limits::out_of_time;
 use genom_model::component::{CodelId, ServiceId};
 
 use super::{Reach, Symbolic};
@@ -52,6 +55,17 @@ impl Symbolic<'_, '_> {
     /// The verdicts over `reach`. Traces are built when `traces` is set
     /// (else the paths are empty).
     pub fn verdicts(&self, reach: &Reach, traces: bool) -> Verdicts {
+        self.verdicts_until(reach, traces, None).unwrap_or_default()
+    }
+
+    /// [`Self::verdicts`], or `None` when `deadline` passes first (reading
+    /// a large reachable set takes time of its own).
+    pub fn verdicts_until(
+        &self,
+        reach: &Reach,
+        traces: bool,
+        deadline: Option<Instant>,
+    ) -> Option<Verdicts> {
         let r = &reach.reached;
         let l = &self.layout;
         let mut out = Verdicts::default();
@@ -63,6 +77,9 @@ impl Symbolic<'_, '_> {
             }
         };
         for i in 0..self.sys.len() {
+            if out_of_time(deadline) {
+                return None;
+            }
             let s = self.sys.service(i);
             let m = self.sys.machine_of(i);
             for &(q, codel) in &l.facts[i].running {
@@ -93,8 +110,11 @@ impl Symbolic<'_, '_> {
                 }
             }
         }
+        if out_of_time(deadline) {
+            return None;
+        }
         out.deadlocks = self.deadlocks(reach, traces);
-        out
+        Some(out)
     }
 
     /// A shortest explicit path to a reached configuration where member
