@@ -152,18 +152,31 @@ impl Steps {
     /// The configurations step `k` leads to from `from` (closed under
     /// urgent starts).
     pub(crate) fn step_image(&self, l: &Layout, from: &Bdd, k: usize) -> Bdd {
+        self.step_image_until(l, from, k, None)
+            .unwrap_or_else(|| l.vars.mk_false())
+    }
+
+    /// [`Self::step_image`], or `None` once `deadline` has passed (checked
+    /// between the urgent starts of the closure).
+    pub(crate) fn step_image_until(
+        &self,
+        l: &Layout,
+        from: &Bdd,
+        k: usize,
+        deadline: Option<std::time::Instant>,
+    ) -> Option<Bdd> {
         let Some(s) = self.list.get(k) else {
-            return l.vars.mk_false();
+            return Some(l.vars.mk_false());
         };
         let x = from.and(&s.guard);
         if x.is_false() {
-            return x;
+            return Some(x);
         }
         let y = self.effect(l, &x, s.effect);
         if s.effect.releases() {
-            self.closure(l, y)
+            self.closure_until(l, y, deadline)
         } else {
-            y
+            Some(y)
         }
     }
 
@@ -246,10 +259,24 @@ impl Steps {
     }
 
     /// Urgent starts until no configuration has a pending instance ready.
-    pub(crate) fn closure(&self, l: &Layout, mut x: Bdd) -> Bdd {
+    pub(crate) fn closure(&self, l: &Layout, x: Bdd) -> Bdd {
+        self.closure_until(l, x, None)
+            .unwrap_or_else(|| l.vars.mk_false())
+    }
+
+    /// [`Self::closure`], or `None` once `deadline` has passed.
+    fn closure_until(
+        &self,
+        l: &Layout,
+        mut x: Bdd,
+        deadline: Option<std::time::Instant>,
+    ) -> Option<Bdd> {
         loop {
             let mut changed = false;
             for (i, ready) in self.ready.iter().enumerate() {
+                if genom_model::limits::out_of_time(deadline) {
+                    return None;
+                }
                 let Some(ready) = ready else { continue };
                 let r = x.and(ready);
                 if r.is_false() {
@@ -259,7 +286,7 @@ impl Steps {
                 changed = true;
             }
             if !changed {
-                return x;
+                return Some(x);
             }
         }
     }

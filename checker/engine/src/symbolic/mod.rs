@@ -227,10 +227,13 @@ impl<'s, 'a> Symbolic<'s, 'a> {
                 if genom_model::limits::out_of_time(limits.deadline) {
                     return Some(Stop::Time);
                 }
-                let next = self
-                    .steps
-                    .step_image(&self.layout, &r.reached, k)
-                    .and_not(&r.reached);
+                let Some(image) =
+                    self.steps
+                        .step_image_until(&self.layout, &r.reached, k, limits.deadline)
+                else {
+                    return Some(Stop::Time);
+                };
+                let next = image.and_not(&r.reached);
                 if next.is_false() {
                     continue;
                 }
