@@ -260,6 +260,18 @@ fn shaped(
     cfg
 }
 
+/// Shapes that vary with the seed: 3 to 7 services, 1 to 3 codels and
+/// threads, densities 0 to 2.
+fn varied(seed: u64) -> GeneratorConfig {
+    shaped(
+        seed,
+        3 + (seed % 5) as usize,
+        1 + (seed % 3) as usize,
+        1 + (seed % 3) as usize,
+        (seed % 9) as f64 / 4.0,
+    )
+}
+
 /// The partial-order reduction alone (whole clusters, stubborn sets, the
 /// exploration stopping once every fact is found) on components of many
 /// shapes, and the default method: the same facts, replayable traces, and
@@ -315,14 +327,7 @@ fn the_partial_order_reduction_agrees_on_dense_components() {
 fn the_stubborn_sets_alone_agree_with_exhaustive_exploration() {
     let (mut compared, mut pruned) = (0, 0);
     for seed in 0..80u64 {
-        let cfg = shaped(
-            seed,
-            3 + (seed % 5) as usize,
-            1 + (seed % 3) as usize,
-            1 + (seed % 3) as usize,
-            (seed % 9) as f64 / 4.0,
-        );
-        if let Some((reduced, full)) = compare_using(&cfg, Method::StubbornOnly) {
+        if let Some((reduced, full)) = compare_using(&varied(seed), Method::StubbornOnly) {
             compared += 1;
             pruned += usize::from(reduced.states < full);
         }
@@ -346,14 +351,7 @@ fn decided_symbolically(a: &Analysis) -> bool {
 fn the_symbolic_engine_agrees_with_exhaustive_exploration() {
     let (mut compared, mut symbolic) = (0, 0);
     for seed in 0..40u64 {
-        let cfg = shaped(
-            seed,
-            3 + (seed % 5) as usize,
-            1 + (seed % 3) as usize,
-            1 + (seed % 3) as usize,
-            (seed % 9) as f64 / 4.0,
-        );
-        if let Some((a, _)) = compare_using(&cfg, Method::Symbolic) {
+        if let Some((a, _)) = compare_using(&varied(seed), Method::Symbolic) {
             compared += 1;
             symbolic += usize::from(decided_symbolically(&a));
             assert!(

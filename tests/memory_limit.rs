@@ -181,9 +181,16 @@ fn a_timed_exploration_stops_within_one_gigabyte() {
 fn a_symbolic_exploration_stops_within_its_limit() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let args = "generate --seed 1 --services 20 --codels 5 --threads 3 --density 1 --init --autos 1";
+    let args =
+        "generate --seed 1 --services 20 --codels 5 --threads 3 --density 1 --init --autos 1";
     let path = generated(d, "d1.gen", args);
-    let args = ["--engine", "symbolic", "--max-memory", "100M", path.as_str()];
+    let args = [
+        "--engine",
+        "symbolic",
+        "--max-memory",
+        "100M",
+        path.as_str(),
+    ];
     expect(
         d,
         &args,

@@ -291,18 +291,39 @@ pub(super) fn explore_cluster(
         out.unproven.extend(sys.services());
     }
     let config = |id: StateId| e.store_config(sys, id);
+    let path = |id: StateId| e.store.path(id);
+    collect_cluster(sys, (prefix, global), (&config, &path), &found, out);
+}
+
+/// A witness's configuration and its path from the cluster's initial one.
+pub(crate) type WitnessFns<'f> = (
+    &'f dyn Fn(StateId) -> Config,
+    &'f dyn Fn(StateId) -> Vec<Action>,
+);
+
+/// [`collect`] for a cluster explored after initialisation: the witness
+/// `id` is configuration `config(id)`, reached by `path(id)` after the
+/// `prefix` to the end of initialisation; its trace is replayed in the
+/// whole component `global`.
+pub(crate) fn collect_cluster(
+    sys: &System<'_>,
+    (prefix, global): (&[Action], &System<'_>),
+    (config, path): WitnessFns<'_>,
+    found: &Found,
+    out: &mut Analysis,
+) {
     let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
-        let full: Vec<Action> = prefix.iter().copied().chain(e.store.path(id)).collect();
+        let full: Vec<Action> = prefix.iter().copied().chain(path(id)).collect();
         replay(global, &full, looping, last)
     };
     collect(
         &Witnesses {
             sys,
-            config: &config,
+            config,
             trace: &trace,
             complete: true,
         },
-        &found,
+        found,
         out,
     );
 }

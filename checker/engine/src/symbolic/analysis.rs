@@ -12,15 +12,11 @@
 //! reachable set's. Every trace is then replayed in the whole component,
 //! after the initialisation prefix, as the explicit engine's are.
 
-use genom_model::component::ServiceId;
-use genom_model::trace::TraceStep;
-
 use super::{Refusal, Symbolic, SymbolicLimits};
-use crate::engine::analysis::{Analysis, Found, Witnesses, collect, visit};
+use crate::engine::analysis::{Analysis, Found, collect_cluster, visit};
 use crate::engine::explore::Stop;
 use crate::engine::store::StateId;
 use crate::engine::system::{Action, Config, System};
-use crate::engine::witness::replay;
 
 /// Explores the cluster `sys` (after initialisation, reached by `prefix`
 /// in the whole component `global`) symbolically within `limits`, and adds
@@ -72,21 +68,8 @@ pub(crate) fn analyse_cluster(
     found.started.extend(verdicts.started.iter().copied());
     let at = |id: StateId| witnesses.get(id as usize);
     let config = |id: StateId| at(id).map_or_else(|| sym.init.clone(), |w| w.1.clone());
-    let trace = |id: StateId, looping: Option<ServiceId>, last: TraceStep| {
-        let path = at(id).map_or(&[][..], |w| &w.0[..]);
-        let full: Vec<Action> = prefix.iter().chain(path).copied().collect();
-        replay(global, &full, looping, last)
-    };
-    collect(
-        &Witnesses {
-            sys,
-            config: &config,
-            trace: &trace,
-            complete: true,
-        },
-        &found,
-        out,
-    );
+    let path = |id: StateId| at(id).map(|w| w.0.clone()).unwrap_or_default();
+    collect_cluster(sys, (prefix, global), (&config, &path), &found, out);
     Ok(())
 }
 

@@ -17,8 +17,8 @@ use std::time::Instant;
 
 use biodivine_lib_bdd::Bdd;
 use genom_model::behaviour::{IDLE, PosId};
-use genom_model::limits::out_of_time;
 use genom_model::component::{CodelId, ServiceId};
+use genom_model::limits::out_of_time;
 
 use super::{Reach, Symbolic};
 use crate::engine::system::{Action, Config};
