@@ -346,6 +346,10 @@ pub struct ExportArgs {
     /// Bound the process's memory, e.g. `512M`, `4G` (then `incomplete`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "8G")]
     pub max_memory: usize,
+
+    /// Which engine verifies the untimed clusters first, as `check --engine`.
+    #[arg(long, value_enum, default_value_t = EngineArg::Auto)]
+    pub engine: EngineArg,
 }
 
 /// Export formats.

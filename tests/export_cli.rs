@@ -107,7 +107,18 @@ fn every_format_refuses_an_unverified_component() {
 
 #[test]
 fn an_incomplete_check_is_refused() {
-    let (code, stdout, stderr) = run(&["export", "config", PILOT, "--max-states", "2"]);
+    // `--engine explicit`: by default the symbolic engine would finish
+    // what the state limit stopped.
+    let args = [
+        "export",
+        "config",
+        PILOT,
+        "--max-states",
+        "2",
+        "--engine",
+        "explicit",
+    ];
+    let (code, stdout, stderr) = run(&args);
     assert_eq!(code, 1);
     assert!(stdout.contains("incomplete"), "{stdout}");
     assert!(

@@ -20,7 +20,8 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
     let options = CheckOptions::new()
         .max_states(args.max_states)
         .timeout(args.timeout)
-        .max_memory(args.max_memory);
+        .max_memory(args.max_memory)
+        .engine(args.engine.into());
     let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
         Ok(r) => r,
         Err(e) => {

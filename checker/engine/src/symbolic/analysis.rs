@@ -31,7 +31,15 @@ pub(crate) fn analyse_cluster(
     limits: SymbolicLimits,
     out: &mut Analysis,
 ) -> Result<(), Refusal> {
-    let sym = Symbolic::new(sys)?;
+    let sym = match Symbolic::new_until(sys, limits.deadline) {
+        Ok(sym) => sym,
+        Err(Refusal::OutOfTime) => {
+            out.stopped = out.stopped.or(Some(Stop::Time));
+            out.unproven.extend(sys.services());
+            return Ok(());
+        }
+        Err(refusal) => return Err(refusal),
+    };
     let reach = sym.reach(limits);
     out.states += u64::try_from(reach.states()).unwrap_or(u64::MAX);
     out.elapsed += reach.elapsed;

@@ -68,13 +68,20 @@ pub(crate) struct Steps {
 
 impl Steps {
     /// The steps of `sys` over `l`.
-    pub(crate) fn new(sys: &System<'_>, l: &Layout) -> Steps {
+    pub(crate) fn new(
+        sys: &System<'_>,
+        l: &Layout,
+        deadline: Option<std::time::Instant>,
+    ) -> Option<Steps> {
         let n = sys.len();
         let mut list = Vec::new();
         let mut request = Vec::with_capacity(n);
         let mut interrupts = Vec::with_capacity(n);
         let mut interruptible = Vec::with_capacity(n);
         for i in 0..n {
+            if genom_model::limits::out_of_time(deadline) {
+                return None;
+            }
             let m = sys.machine_of(i);
             let guard = request_guard(sys, l, i);
             list.push(Step {
@@ -103,7 +110,7 @@ impl Steps {
             interruptible.push(any);
         }
         list.retain(|s| !s.guard.is_false());
-        Steps {
+        Some(Steps {
             list,
             interrupts,
             interruptible,
@@ -111,7 +118,7 @@ impl Steps {
             ready: (0..n).map(|i| ready(l, i)).collect(),
             start: (0..n).map(|i| sys.machine_of(i).start).collect(),
             request,
-        }
+        })
     }
 
     /// The configurations one step from `from` (closed under urgent

@@ -64,6 +64,9 @@ pub enum Refusal {
     /// The initial configuration has not completed initialisation (the
     /// pre-init phase is left to the explicit engine).
     PreInit,
+    /// The time limit passed while the steps were being built (a cluster of
+    /// thousands of codels has millions of lock conflicts to encode).
+    OutOfTime,
 }
 
 impl Layout {

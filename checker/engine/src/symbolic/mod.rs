@@ -136,6 +136,12 @@ impl Reach {
 impl<'s, 'a> Symbolic<'s, 'a> {
     /// Prepares `sys` (a whole cluster, after initialisation).
     pub fn new(sys: &'s System<'a>) -> Result<Self, Refusal> {
+        Self::new_until(sys, None)
+    }
+
+    /// [`Self::new`], refused with [`Refusal::OutOfTime`] once `deadline`
+    /// has passed.
+    pub fn new_until(sys: &'s System<'a>, deadline: Option<Instant>) -> Result<Self, Refusal> {
         let layout = layout::Layout::new(sys)?;
         let init = sys
             .init_states()
@@ -145,7 +151,7 @@ impl<'s, 'a> Symbolic<'s, 'a> {
         if !init.init_done || !sys.expand(&init) {
             return Err(Refusal::PreInit);
         }
-        let steps = image::Steps::new(sys, &layout);
+        let steps = image::Steps::new(sys, &layout, deadline).ok_or(Refusal::OutOfTime)?;
         Ok(Symbolic {
             sys,
             layout,
