@@ -111,9 +111,15 @@ fn explicit_config_and_limits_with_the_command_line_winning() {
     std::fs::write(&cfg, "[limits]\nmax-states = 3\n").unwrap();
     let cfg_arg = cfg.to_str().unwrap();
     let pilot_path = Path::new("specs/pilot.gen");
-    let (_, f) = json(&["--config", cfg_arg], pilot_path);
+    // `--engine explicit`: by default the symbolic engine would finish
+    // what the state limit stopped.
+    let explicit = ["--engine", "explicit", "--config", cfg_arg];
+    let (_, f) = json(&explicit, pilot_path);
     assert!(codes(&f).contains(&"incomplete".to_owned()), "{f:#}");
-    let (_, f) = json(&["--config", cfg_arg, "--max-states", "1000"], pilot_path);
+    let (_, f) = json(
+        &[&explicit[..], &["--max-states", "1000"]].concat(),
+        pilot_path,
+    );
     assert!(!codes(&f).contains(&"incomplete".to_owned()), "{f:#}");
 }
 
