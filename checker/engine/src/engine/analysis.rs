@@ -15,7 +15,7 @@ pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
 use super::method::{Decided, Method, decide_cluster};
-use super::pending::pending_cycle;
+use super::pending::{cycle_services, pending_cycle, pending_cycle_bits};
 use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 use super::witness::replay;
@@ -121,7 +121,18 @@ pub(crate) struct Found {
     /// states add nothing, and these are cheaper to ask.
     seen_codels: Vec<bool>,
     seen_members: Vec<bool>,
+    /// Members already in `unbounded` and in `pending`, member pairs
+    /// (`waiter * members + blocker`, below [`MAX_PAIRS`]) already in
+    /// `starvations`, and the cycles (as member bits) already in
+    /// `deadlocks`: a fact noted once is not looked up in its map again.
+    seen_unbounded: Vec<bool>,
+    seen_pending: Vec<bool>,
+    seen_pairs: Vec<bool>,
+    seen_cycles: Vec<u64>,
 }
+
+/// Most member pairs whose starvation [`Found`] notes by index.
+const MAX_PAIRS: usize = 1 << 22;
 
 impl Found {
     /// Notes that `codel` runs or is reached.
@@ -145,14 +156,27 @@ impl Found {
             self.started.insert(s);
         }
     }
+
+    /// Whether a request of member `i` (service `s`) may still add a fact:
+    /// its control codel not reached yet, or, without start codel, the
+    /// service not started yet.
+    fn request_adds(&self, sys: &System<'_>, i: usize, s: ServiceId) -> (Option<CodelId>, bool) {
+        let control = sys.component().services[s]
+            .control
+            .filter(|&k| !self.has_reached(k));
+        let start = sys.machine_of(i).start.is_none() && !self.has_started(i);
+        (control, start)
+    }
 }
 
 /// Marks `k` in `seen` (grown as needed); whether it was not marked yet.
 fn first_time(seen: &mut Vec<bool>, k: usize) -> bool {
-    if seen.len() <= k {
-        seen.resize(k + 1, false);
+    if let Some(flag) = seen.get_mut(k) {
+        return !std::mem::replace(flag, true);
     }
-    !std::mem::replace(&mut seen[k], true)
+    seen.resize(k + 1, false);
+    seen[k] = true;
+    true
 }
 
 /// How to turn the witnesses of one exploration into traces: the
@@ -539,67 +563,92 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
     if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
         found.init_success = Some(id);
     }
-    sys.with_running(cfg, |running| visit_members(sys, id, cfg, running, found));
-    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
+    visit_members(sys, id, cfg, found);
+    if cfg.main.len() <= 64 {
+        // The cycle as member bits: a cycle already noted costs no
+        // allocation.
+        if let Some(set) = pending_cycle_bits(sys, cfg) {
+            if !found.seen_cycles.contains(&set) {
+                found.seen_cycles.push(set);
+                let cycle = cycle_services(sys, set);
+                found.deadlocks.entry(cycle).or_insert(id);
+            }
+        }
+    } else if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
         if let Some(cycle) = pending_cycle(sys, cfg) {
             found.deadlocks.entry(cycle).or_insert(id);
         }
     }
 }
 
-/// Reads the properties of each member in a new state, given the running
-/// codels.
-fn visit_members(
-    sys: &System<'_>,
-    id: StateId,
-    cfg: &Config,
-    running: &[(usize, CodelId)],
-    found: &mut Found,
-) {
-    let c = sys.component();
+/// Reads the properties of each member in a new state: first what the
+/// state shows by itself, then, only while some request may still add a
+/// fact (a control codel not reached, a service without start codel not
+/// started), which requests are enabled (the running codels are gathered
+/// only then).
+fn visit_members(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
     let n = cfg.main.len();
+    let mut requests = false;
     for i in (0..n).filter(|&i| !sys.is_input(i)) {
         let s = sys.service(i);
-        let m = sys.machine_of(i);
-        let pos = sys.position(cfg, i);
-        if let Some(codel) = pos.codel().filter(|_| pos.is_running()) {
+        if let Some(codel) = sys.running_codel(cfg, i) {
             found.reach(codel);
         }
-        if cfg.main[i] != IDLE {
+        let p = cfg.main[i];
+        if p != IDLE {
             found.start(i, s);
         }
-        // Whether a request is enabled only matters while it adds a fact.
-        let control = c.services[s].control.filter(|&k| !found.has_reached(k));
-        let start = m.start.is_none() && !found.has_started(i);
-        if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
-            if let Some(k) = control {
-                found.reach(k);
-            }
-            if start {
-                found.start(i, s);
-            }
-        }
-        if m.stop_loops[usize::from(cfg.main[i])] {
+        let (control, start) = found.request_adds(sys, i, s);
+        requests |= control.is_some() || start;
+        if sys.machine_of(i).stop_loops[usize::from(p)]
+            && first_time(&mut found.seen_unbounded, i)
+        {
             found.unbounded.entry(s).or_insert(id);
         }
         if cfg.pending[i].is_some() {
-            found.pending.entry(s).or_insert(id);
+            if first_time(&mut found.seen_pending, i) {
+                found.pending.entry(s).or_insert(id);
+            }
             starving(sys, id, cfg, i, found);
         }
     }
+    if !requests {
+        return;
+    }
+    // Whether a request is enabled only matters while it adds a fact.
+    sys.with_running(cfg, |running| {
+        for i in (0..n).filter(|&i| !sys.is_input(i)) {
+            let s = sys.service(i);
+            let (control, start) = found.request_adds(sys, i, s);
+            if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
+                if let Some(k) = control {
+                    found.reach(k);
+                }
+                if start {
+                    found.start(i, s);
+                }
+            }
+        }
+    });
 }
 
 fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
     if sys.machine_of(i).watchdog {
         return;
     }
+    let n = cfg.main.len();
     for (t, via_delays) in sys.blockers_iter(cfg, i) {
-        if sys.may_never_end(cfg, t) {
-            found
-                .starvations
-                .entry((sys.service(i), sys.service(t)))
-                .or_insert((id, via_delays));
+        if !sys.may_never_end(cfg, t) {
+            continue;
         }
+        let pair = i * n + t;
+        if n * n <= MAX_PAIRS && !first_time(&mut found.seen_pairs, pair) {
+            continue;
+        }
+        found
+            .starvations
+            .entry((sys.service(i), sys.service(t)))
+            .or_insert((id, via_delays));
     }
 }
 
