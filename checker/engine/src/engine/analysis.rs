@@ -129,6 +129,16 @@ pub(crate) struct Found {
     seen_pending: Vec<bool>,
     seen_pairs: Vec<bool>,
     seen_cycles: Vec<u64>,
+    /// Per member, where its positions start in `quiet` (`None` for an
+    /// input); empty until the first state is visited.
+    quiet_at: Vec<Option<usize>>,
+    /// Per member and position: every fact the position shows by itself
+    /// (its running codel, the start, an unbounded interrupt) is noted, so
+    /// a state with the member there adds nothing unless it is pending.
+    quiet: Vec<bool>,
+    /// Members whose requests may still add a fact (see
+    /// [`Found::request_adds`]); members leave it for good.
+    requests_open: Vec<usize>,
 }
 
 /// Most member pairs whose starvation [`Found`] notes by index.
@@ -166,6 +176,24 @@ impl Found {
             .filter(|&k| !self.has_reached(k));
         let start = sys.machine_of(i).start.is_none() && !self.has_started(i);
         (control, start)
+    }
+
+    /// Sizes the per-member tables for `sys`, at the first state visited.
+    fn prepare(&mut self, sys: &System<'_>) {
+        if !self.quiet_at.is_empty() || sys.is_empty() {
+            return;
+        }
+        let mut next = 0;
+        for i in 0..sys.len() {
+            if sys.is_input(i) {
+                self.quiet_at.push(None);
+                continue;
+            }
+            self.quiet_at.push(Some(next));
+            next += sys.machine_of(i).positions.len();
+            self.requests_open.push(i);
+        }
+        self.quiet = vec![false; next];
     }
 }
 
@@ -582,54 +610,70 @@ pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Fou
 }
 
 /// Reads the properties of each member in a new state: first what the
-/// state shows by itself, then, only while some request may still add a
-/// fact (a control codel not reached, a service without start codel not
-/// started), which requests are enabled (the running codels are gathered
-/// only then).
+/// state shows by itself (skipping a member at a position seen before
+/// without pending instance: it adds nothing), then, only while some
+/// request may still add a fact (a control codel not reached, a service
+/// without start codel not started), which requests are enabled (the
+/// running codels are gathered only then).
 fn visit_members(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
-    let n = cfg.main.len();
-    let mut requests = false;
-    for i in (0..n).filter(|&i| !sys.is_input(i)) {
-        let s = sys.service(i);
-        if let Some(codel) = sys.running_codel(cfg, i) {
-            found.reach(codel);
-        }
+    found.prepare(sys);
+    for i in 0..cfg.main.len() {
+        let Some(at) = found.quiet_at.get(i).copied().flatten() else {
+            continue;
+        };
         let p = cfg.main[i];
-        if p != IDLE {
-            found.start(i, s);
+        let pending = cfg.pending[i].is_some();
+        let quiet = found.quiet.get(at + usize::from(p)).copied().unwrap_or(false);
+        if quiet && !pending {
+            continue;
         }
-        let (control, start) = found.request_adds(sys, i, s);
-        requests |= control.is_some() || start;
-        if sys.machine_of(i).stop_loops[usize::from(p)]
-            && first_time(&mut found.seen_unbounded, i)
-        {
-            found.unbounded.entry(s).or_insert(id);
+        let s = sys.service(i);
+        if !quiet {
+            if let Some(codel) = sys.running_codel(cfg, i) {
+                found.reach(codel);
+            }
+            if p != IDLE {
+                found.start(i, s);
+            }
+            if sys.machine_of(i).stop_loops[usize::from(p)]
+                && first_time(&mut found.seen_unbounded, i)
+            {
+                found.unbounded.entry(s).or_insert(id);
+            }
+            if let Some(q) = found.quiet.get_mut(at + usize::from(p)) {
+                *q = true;
+            }
         }
-        if cfg.pending[i].is_some() {
+        if pending {
             if first_time(&mut found.seen_pending, i) {
                 found.pending.entry(s).or_insert(id);
             }
             starving(sys, id, cfg, i, found);
         }
     }
-    if !requests {
-        return;
-    }
-    // Whether a request is enabled only matters while it adds a fact.
-    sys.with_running(cfg, |running| {
-        for i in (0..n).filter(|&i| !sys.is_input(i)) {
-            let s = sys.service(i);
-            let (control, start) = found.request_adds(sys, i, s);
-            if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
-                if let Some(k) = control {
-                    found.reach(k);
-                }
-                if start {
-                    found.start(i, s);
+    let mut open = std::mem::take(&mut found.requests_open);
+    open.retain(|&i| {
+        let (control, start) = found.request_adds(sys, i, sys.service(i));
+        control.is_some() || start
+    });
+    if !open.is_empty() {
+        // Whether a request is enabled only matters while it adds a fact.
+        sys.with_running(cfg, |running| {
+            for &i in &open {
+                let s = sys.service(i);
+                let (control, start) = found.request_adds(sys, i, s);
+                if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
+                    if let Some(k) = control {
+                        found.reach(k);
+                    }
+                    if start {
+                        found.start(i, s);
+                    }
                 }
             }
-        }
-    });
+        });
+    }
+    found.requests_open = open;
 }
 
 fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
