@@ -6,7 +6,6 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)]
 
-use genom_generate::{GeneratorConfig, generate};
 use std::collections::{BTreeMap, BTreeSet};
 
 use genom_model::behaviour::{Behaviour, IDLE};
@@ -17,22 +16,12 @@ use super::explore::{Limits, explore};
 use super::pending::{pending_cycle_any, pending_cycle_small};
 use super::store::StateId;
 use super::system::{Config, System};
-use crate::testing::check;
+use crate::testing::{check, generated};
 
 /// A generated component: seed, services, codels per service, threads
 /// and rules per service.
-fn component(
-    (seed, services, codels, threads, density): (u64, usize, usize, usize, f64),
-) -> Component {
-    let text = generate(&GeneratorConfig {
-        codels_per_service: codels,
-        threads,
-        rule_density: density,
-        init: true,
-        autos: 1,
-        ..GeneratorConfig::new(seed, services)
-    });
-    check(&text).component.expect("a generated component")
+fn component(config: (u64, usize, usize, usize, f64)) -> Component {
+    generated(config, 0.0)
 }
 
 #[test]
