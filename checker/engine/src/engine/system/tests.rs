@@ -71,10 +71,15 @@ fn the_layout_decodes_what_it_encodes_into_a_dirty_buffer() {
         let reached = states(&sys, 3000);
         let mut buffer = Some(reached[0].clone());
         let mut seen = std::collections::BTreeSet::new();
+        let (plain, packed) = sys.layout.field_by_field();
+        assert!(packed, "each member's fields share a word");
         for cfg in &reached {
             let mut words = Vec::new();
             sys.encode(cfg, &mut words);
             assert_eq!(words.len(), sys.width());
+            let mut by_field = Vec::new();
+            plain.encode(cfg, &mut by_field);
+            assert_eq!(words, by_field);
             sys.decode_into(&words, &(), &mut buffer);
             assert_eq!(buffer.as_ref(), Some(cfg));
             assert_eq!(&sys.decode(&words, &()), cfg);
