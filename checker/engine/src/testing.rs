@@ -20,6 +20,27 @@ pub fn check(src: &str) -> Lowered {
     }
 }
 
+/// A generated component (`init` and one auto service): seed, services,
+/// codels per service, threads, rules per service and the share of
+/// services that stop themselves.
+pub fn generated(
+    (seed, services, codels, threads, density): (u64, usize, usize, usize, f64),
+    self_stops: f64,
+) -> Component {
+    let text = genom_generate::generate(&genom_generate::GeneratorConfig {
+        codels_per_service: codels,
+        threads,
+        rule_density: density,
+        init: true,
+        autos: 1,
+        self_stops,
+        ..genom_generate::GeneratorConfig::new(seed, services)
+    });
+    check(&text)
+        .component
+        .unwrap_or_else(|| panic!("generated component {seed} resolves"))
+}
+
 /// A valid component header and thread for snippets.
 pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; }\n";
 

@@ -6,7 +6,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
-use genom_model::behaviour::{Behaviour, IDLE};
+use genom_model::behaviour::Behaviour;
 use genom_model::component::{CodelId, Component, ServiceId};
 use genom_model::stats::Method as Decider;
 use genom_model::trace::{Event, Trace, TraceStep};
@@ -15,10 +15,12 @@ pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
 use super::method::{Decided, Method, decide_cluster};
-use super::pending::pending_cycle;
 use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 use super::witness::replay;
+
+mod visit;
+pub(crate) use visit::{Found, visit};
 
 /// Pending instances waiting on each other forever.
 #[derive(Debug, Clone)]
@@ -104,55 +106,6 @@ pub struct Analysis {
     /// Services not started in their exploration, with why and a trace
     /// (they are dead unless another exploration starts them).
     dead_candidates: BTreeMap<ServiceId, Blocked>,
-}
-
-/// Witnesses found in one exploration, by state id.
-#[derive(Default)]
-pub(crate) struct Found {
-    pub(crate) reached: BTreeSet<CodelId>,
-    pub(crate) started: BTreeSet<ServiceId>,
-    pub(crate) deadlocks: BTreeMap<Vec<ServiceId>, StateId>,
-    pub(crate) starvations: BTreeMap<(ServiceId, ServiceId), (StateId, bool)>,
-    pub(crate) unbounded: BTreeMap<ServiceId, StateId>,
-    pub(crate) pending: BTreeMap<ServiceId, StateId>,
-    pub(crate) init_success: Option<StateId>,
-    pub(crate) root: Option<StateId>,
-    /// Codels (by id) and members already in `reached` and `started`: most
-    /// states add nothing, and these are cheaper to ask.
-    seen_codels: Vec<bool>,
-    seen_members: Vec<bool>,
-}
-
-impl Found {
-    /// Notes that `codel` runs or is reached.
-    fn reach(&mut self, codel: CodelId) {
-        if first_time(&mut self.seen_codels, codel.0 as usize) {
-            self.reached.insert(codel);
-        }
-    }
-
-    fn has_reached(&self, codel: CodelId) -> bool {
-        self.seen_codels.get(codel.0 as usize) == Some(&true)
-    }
-
-    fn has_started(&self, i: usize) -> bool {
-        self.seen_members.get(i) == Some(&true)
-    }
-
-    /// Notes that member `i`, service `s`, starts.
-    fn start(&mut self, i: usize, s: ServiceId) {
-        if first_time(&mut self.seen_members, i) {
-            self.started.insert(s);
-        }
-    }
-}
-
-/// Marks `k` in `seen` (grown as needed); whether it was not marked yet.
-fn first_time(seen: &mut Vec<bool>, k: usize) -> bool {
-    if seen.len() <= k {
-        seen.resize(k + 1, false);
-    }
-    !std::mem::replace(&mut seen[k], true)
 }
 
 /// How to turn the witnesses of one exploration into traces: the
@@ -529,76 +482,6 @@ impl Analysis {
         budget.max_states = budget.max_states.saturating_sub(states).max(1);
         if e.stopped.is_some() {
             self.stopped = self.stopped.or(e.stopped);
-        }
-    }
-}
-
-/// Reads the properties of one new state.
-pub(crate) fn visit(sys: &System<'_>, id: StateId, cfg: &Config, found: &mut Found) {
-    found.root.get_or_insert(id);
-    if cfg.init_done && found.init_success.is_none() && sys.init().is_some() {
-        found.init_success = Some(id);
-    }
-    sys.with_running(cfg, |running| visit_members(sys, id, cfg, running, found));
-    if cfg.pending.iter().filter(|p| p.is_some()).count() >= 2 {
-        if let Some(cycle) = pending_cycle(sys, cfg) {
-            found.deadlocks.entry(cycle).or_insert(id);
-        }
-    }
-}
-
-/// Reads the properties of each member in a new state, given the running
-/// codels.
-fn visit_members(
-    sys: &System<'_>,
-    id: StateId,
-    cfg: &Config,
-    running: &[(usize, CodelId)],
-    found: &mut Found,
-) {
-    let c = sys.component();
-    let n = cfg.main.len();
-    for i in (0..n).filter(|&i| !sys.is_input(i)) {
-        let s = sys.service(i);
-        let m = sys.machine_of(i);
-        let pos = sys.position(cfg, i);
-        if let Some(codel) = pos.codel().filter(|_| pos.is_running()) {
-            found.reach(codel);
-        }
-        if cfg.main[i] != IDLE {
-            found.start(i, s);
-        }
-        // Whether a request is enabled only matters while it adds a fact.
-        let control = c.services[s].control.filter(|&k| !found.has_reached(k));
-        let start = m.start.is_none() && !found.has_started(i);
-        if (control.is_some() || start) && sys.request_enabled_among(cfg, i, running) {
-            if let Some(k) = control {
-                found.reach(k);
-            }
-            if start {
-                found.start(i, s);
-            }
-        }
-        if m.stop_loops[usize::from(cfg.main[i])] {
-            found.unbounded.entry(s).or_insert(id);
-        }
-        if cfg.pending[i].is_some() {
-            found.pending.entry(s).or_insert(id);
-            starving(sys, id, cfg, i, found);
-        }
-    }
-}
-
-fn starving(sys: &System<'_>, id: StateId, cfg: &Config, i: usize, found: &mut Found) {
-    if sys.machine_of(i).watchdog {
-        return;
-    }
-    for (t, via_delays) in sys.blockers_iter(cfg, i) {
-        if sys.may_never_end(cfg, t) {
-            found
-                .starvations
-                .entry((sys.service(i), sys.service(t)))
-                .or_insert((id, via_delays));
         }
     }
 }

@@ -19,39 +19,61 @@ pub(super) fn pending_cycle(sys: &System<'_>, cfg: &Config) -> Option<Vec<Servic
 /// [`pending_cycle`] with at most 64 members: the relation as bit masks
 /// (no allocation unless there is a cycle).
 pub(super) fn pending_cycle_small(sys: &System<'_>, cfg: &Config) -> Option<Vec<ServiceId>> {
-    let n = cfg.main.len();
-    let node =
-        |i: usize| cfg.pending[i].is_some() && !sys.machine_of(i).watchdog && !sys.is_input(i);
+    pending_cycle_bits(sys, cfg).map(|set| cycle_services(sys, set))
+}
+
+/// The services of the members whose bits are in `set`, sorted.
+pub(super) fn cycle_services(sys: &System<'_>, set: u64) -> Vec<ServiceId> {
+    let mut cycle: Vec<ServiceId> = bits(set).map(|j| sys.service(j)).collect();
+    cycle.sort();
+    cycle
+}
+
+/// The indices of the bits set in `set`, ascending.
+fn bits(mut set: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        let j = set.trailing_zeros();
+        set &= set.wrapping_sub(1);
+        (j < 64).then_some(j as usize)
+    })
+}
+
+/// [`pending_cycle_small`] as the bits of the cycle's members (at most 64
+/// members): the pending members that may be on a cycle, each with an edge
+/// to the pending members among its `delayers`; `None` at once when fewer
+/// than two of them or no edge.
+pub(super) fn pending_cycle_bits(sys: &System<'_>, cfg: &Config) -> Option<u64> {
+    let pending = (cfg.pending.iter().enumerate())
+        .filter(|(_, p)| p.is_some())
+        .fold(0u64, |set, (i, _)| set | 1 << i);
+    let nodes = pending & sys.cycle_members();
+    if nodes.count_ones() < 2 {
+        return None;
+    }
     let mut reach = [0u64; 64];
     let mut any = false;
-    for i in (0..n).filter(|&i| node(i)) {
-        for (t, d) in sys.blockers_iter(cfg, i) {
-            if d && node(t) {
-                reach[i] |= 1 << t;
-                any = true;
-            }
-        }
+    for i in bits(nodes) {
+        reach[i] = sys.delayer_bits(i) & nodes;
+        any |= reach[i] != 0;
     }
     if !any {
         return None;
     }
-    // Transitive closure (Warshall): bit j of reach[i] when a path of at
-    // least one edge leads from i to j.
-    for k in 0..n {
-        for i in 0..n {
+    // Transitive closure (Warshall) over the nodes: bit j of reach[i] when
+    // a path of at least one edge leads from i to j.
+    for k in bits(nodes) {
+        for i in bits(nodes) {
             if reach[i] >> k & 1 == 1 {
                 reach[i] |= reach[k];
             }
         }
     }
-    let first = (0..n).find(|&i| reach[i] >> i & 1 == 1)?;
-    let mut cycle: Vec<ServiceId> = (0..n)
+    let first = bits(nodes).find(|&i| reach[i] >> i & 1 == 1)?;
+    let set = bits(nodes)
         .filter(|&j| reach[j] >> j & 1 == 1)
         .filter(|&j| reach[first] >> j & 1 == 1 && reach[j] >> first & 1 == 1)
-        .map(|j| sys.service(j))
-        .collect();
-    cycle.sort();
-    Some(cycle)
+        .fold(0u64, |set, j| set | 1 << j);
+    Some(set)
 }
 
 /// [`pending_cycle`] with any number of members.

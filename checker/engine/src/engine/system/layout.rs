@@ -54,13 +54,80 @@ impl Slots {
     }
 }
 
+/// A member whose fields share one word, ready to pack: the flags
+/// already in place (0 when absent).
+#[derive(Debug, Clone, Copy)]
+struct Pack {
+    word: usize,
+    pos_mask: u64,
+    pos_shift: u32,
+    pending: u64,
+    wait_mask: u64,
+    wait_shift: u32,
+    timed_out: u64,
+}
+
+impl Pack {
+    fn new(word: usize, s: &Slots) -> Self {
+        Pack {
+            word,
+            pos_mask: s.pos.mask,
+            pos_shift: s.pos.shift,
+            pending: s.pending.mask << s.pending.shift,
+            wait_mask: s.wait.mask,
+            wait_shift: s.wait.shift,
+            timed_out: s.timed_out.mask << s.timed_out.shift,
+        }
+    }
+
+    /// [`Slots::packed`], without a branch.
+    fn packed(&self, pos: u64, pending: Option<u64>, timed_out: bool) -> u64 {
+        let wait = pending.map_or(0, |m| {
+            self.pending | (m & self.wait_mask) << self.wait_shift
+        });
+        (pos & self.pos_mask) << self.pos_shift
+            | wait
+            | self.timed_out & u64::from(timed_out).wrapping_neg()
+    }
+}
+
 /// Where every field of a configuration lies.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Layout {
     init_done: Field,
     members: Vec<Slots>,
+    /// When every member's fields share a word (the common case): the
+    /// members ready to pack, for [`Self::encode`]'s fast path.
+    packs: Option<Vec<Pack>>,
     /// Words per encoded configuration.
     pub(super) width: usize,
+}
+
+/// [`Layout::encode`] of the members when each lies in one word: the
+/// fields of the current word are or-ed into a register, stored when the
+/// next member's word differs.
+fn encode_packed(packs: &[Pack], cfg: &Config, words: &mut [u64]) {
+    let n = packs
+        .len()
+        .min(cfg.main.len())
+        .min(cfg.pending.len())
+        .min(cfg.timed_out.len());
+    let (packs, main) = (&packs[..n], &cfg.main[..n]);
+    let (pending, timed_out) = (&cfg.pending[..n], &cfg.timed_out[..n]);
+    let (mut at, mut acc) = (0, 0u64);
+    for i in 0..n {
+        let p = &packs[i];
+        if p.word != at {
+            if let Some(w) = words.get_mut(at) {
+                *w |= acc;
+            }
+            (at, acc) = (p.word, 0);
+        }
+        acc |= p.packed(u64::from(main[i]), pending[i], timed_out[i]);
+    }
+    if let Some(w) = words.get_mut(at) {
+        *w |= acc;
+    }
 }
 
 /// Places fields one after the other, opening a new word when the next
@@ -122,10 +189,15 @@ impl Layout {
                 }
                 slots
             })
+            .collect::<Vec<Slots>>();
+        let packs = members
+            .iter()
+            .map(|s| s.word.map(|w| Pack::new(w, s)))
             .collect();
         Layout {
             init_done,
             members,
+            packs,
             width: p.words.max(1),
         }
     }
@@ -141,6 +213,10 @@ impl Layout {
             }
         };
         or(words, self.init_done, u64::from(cfg.init_done));
+        if let Some(packs) = &self.packs {
+            encode_packed(packs, cfg, words);
+            return;
+        }
         for ((slots, &pos), (&pending, &timed_out)) in self
             .members
             .iter()
@@ -161,6 +237,17 @@ impl Layout {
                 }
             }
         }
+    }
+
+    /// The same layout without the packed fast path (for tests: both ways
+    /// must encode alike); whether this one has it.
+    #[cfg(test)]
+    pub(super) fn field_by_field(&self) -> (Layout, bool) {
+        let plain = Layout {
+            packs: None,
+            ..self.clone()
+        };
+        (plain, self.packs.is_some())
     }
 
     /// Decodes `words` into `cfg`, reusing its vectors (written in place

@@ -141,6 +141,12 @@ pub struct System<'a> {
     scratch: std::cell::RefCell<Vec<(usize, CodelId)>>,
     /// The partial-order reduction, when reduction is on.
     reduction: Option<Box<dyn Reduce>>,
+    /// With at most 64 members: per member, the bits of its `delayers`
+    /// (empty with more members).
+    delayer_bits: Vec<u64>,
+    /// With at most 64 members: the bits of the members that may be on a
+    /// deadlock cycle (neither input nor with a watchdog).
+    cycle_members: u64,
 }
 
 /// A partial-order reduction of a system's steps (the one of
@@ -228,6 +234,15 @@ impl<'a> System<'a> {
         let controls: Vec<&[(StructureId, bool)]> =
             members.iter().map(|m| m.control.as_slice()).collect();
         let locks = locks::Locks::new(&codel_structures, &controls);
+        let small = members.len() <= 64;
+        let delayer_bits = members
+            .iter()
+            .filter(|_| small)
+            .map(|m| m.delayers.iter().fold(0u64, |bits, &t| bits | 1 << t))
+            .collect();
+        let cycle_members = (0..members.len())
+            .filter(|&i| small && !members[i].input && !b.machine(members[i].service).watchdog)
+            .fold(0u64, |bits, i| bits | 1 << i);
         System {
             c,
             b,
@@ -242,6 +257,8 @@ impl<'a> System<'a> {
             locks,
             scratch: std::cell::RefCell::new(Vec::new()),
             reduction: None,
+            delayer_bits,
+            cycle_members,
         }
     }
 
@@ -339,6 +356,25 @@ impl<'a> System<'a> {
 
     fn machine(&self, i: usize) -> &'a ServiceMachine {
         self.b.machine(self.members[i].service)
+    }
+
+    /// The codel member `i` runs in `cfg`, if any.
+    pub fn running_codel(&self, cfg: &Config, i: usize) -> Option<CodelId> {
+        self.running_codel[i]
+            .get(usize::from(cfg.main[i]))
+            .copied()
+            .flatten()
+    }
+
+    /// With at most 64 members: the bits of member `i`'s `delayers`.
+    pub fn delayer_bits(&self, i: usize) -> u64 {
+        self.delayer_bits.get(i).copied().unwrap_or(0)
+    }
+
+    /// With at most 64 members: the bits of the members that may be on a
+    /// cycle of pending instances (neither inputs nor with a watchdog).
+    pub fn cycle_members(&self) -> u64 {
+        self.cycle_members
     }
 
     /// The position of member `i`.

@@ -5,14 +5,13 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)]
 
-use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{CodelId, Component, ServiceId};
 
 use super::locks::Who;
 use super::{Config, System, conflict};
 use crate::engine::explore::{Limits, Model, explore};
-use crate::testing::check;
+use crate::testing::generated;
 
 /// Generated components with watchdogs, self-stops, dense rules and
 /// several threads.
@@ -20,18 +19,7 @@ fn components() -> Vec<Component> {
     let configs = [(3, 5, 3, 2, 2.0), (11, 4, 3, 2, 1.0), (6, 8, 4, 2, 1.0)];
     configs
         .iter()
-        .map(|&(seed, services, codels, threads, density)| {
-            let text = generate(&GeneratorConfig {
-                codels_per_service: codels,
-                threads,
-                rule_density: density,
-                init: true,
-                autos: 1,
-                self_stops: 0.3,
-                ..GeneratorConfig::new(seed, services)
-            });
-            check(&text).component.expect("a generated component")
-        })
+        .map(|&config| generated(config, 0.3))
         .collect()
 }
 
@@ -83,10 +71,15 @@ fn the_layout_decodes_what_it_encodes_into_a_dirty_buffer() {
         let reached = states(&sys, 3000);
         let mut buffer = Some(reached[0].clone());
         let mut seen = std::collections::BTreeSet::new();
+        let (plain, packed) = sys.layout.field_by_field();
+        assert!(packed, "each member's fields share a word");
         for cfg in &reached {
             let mut words = Vec::new();
             sys.encode(cfg, &mut words);
             assert_eq!(words.len(), sys.width());
+            let mut by_field = Vec::new();
+            plain.encode(cfg, &mut by_field);
+            assert_eq!(words, by_field);
             sys.decode_into(&words, &(), &mut buffer);
             assert_eq!(buffer.as_ref(), Some(cfg));
             assert_eq!(&sys.decode(&words, &()), cfg);
