@@ -254,7 +254,8 @@ pub fn verify(
     let mut statistics = None;
     let mut response_times = Vec::new();
     if let (Some(c), true, true) = (&component, clean, options.behaviour) {
-        let analysis = if c.gives_timing() {
+        let timed = c.gives_timing();
+        let analysis = if timed {
             let (analysis, facts) = crate::timed::analyse_timed(c, options.limits(started));
             diagnostics.extend(crate::checks::timing(c, &facts));
             attach_codel_overrun_traces(c, &facts, &mut diagnostics);
@@ -274,7 +275,7 @@ pub fn verify(
             time_ms: 0.0,
             complete: analysis.stopped.is_none(),
             bytes_per_state: Some(analysis.bytes_per_state),
-            decided_by: decisions(c, &analysis),
+            decided_by: decisions(c, &analysis, timed),
         });
     }
     sort_diagnostics(&mut diagnostics);
@@ -289,17 +290,17 @@ pub fn verify(
     }
 }
 
-/// What decided each part: the untimed analysis's record, or one zone
-/// exploration of the whole component (the timed engine explores its
-/// clusters with zones alike).
-fn decisions(c: &Component, analysis: &crate::engine::Analysis) -> Vec<Decision> {
+/// What decided each part: one zone exploration of the whole component
+/// when `timed` (the timed engine explores its clusters with zones alike),
+/// else the untimed analysis's record.
+fn decisions(c: &Component, analysis: &crate::engine::Analysis, timed: bool) -> Vec<Decision> {
     let names = |services: &[ServiceId]| -> Vec<String> {
         services
             .iter()
             .map(|&s| c.services[s].name.name.clone())
             .collect()
     };
-    if analysis.decided.is_empty() {
+    if timed {
         let all: Vec<ServiceId> = c.services.ids().collect();
         let complete = analysis.stopped.is_none();
         return vec![Decision::new(

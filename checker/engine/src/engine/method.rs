@@ -111,12 +111,7 @@ pub(super) fn decide_cluster(
     let started = Instant::now();
     let mut out = Analysis::default();
     let parts = explicit_cluster(w, cluster, method, budget, &mut out);
-    out.decided.push(Decided {
-        services: cluster.to_vec(),
-        method: explicit_decider(method, parts),
-        states: out.states,
-        complete: out.stopped.is_none(),
-    });
+    record(&mut out, cluster, explicit_decider(method, parts));
     if falls_back(method, out.stopped) {
         let deadline = fallback_deadline(budget, started.elapsed());
         if let Some(mut sym) = symbolic_cluster(w, cluster, Some(deadline), budget) {
@@ -176,11 +171,17 @@ fn symbolic_cluster(
     };
     let mut out = Analysis::default();
     crate::symbolic::analyse_cluster(&sys, w.prefix, w.global, limits, &mut out).ok()?;
+    record(&mut out, cluster, Decider::Symbolic);
+    Some(out)
+}
+
+/// Records that `method` decided `cluster`, with the states and the
+/// completeness of `out`, the cluster's own analysis.
+fn record(out: &mut Analysis, cluster: &[ServiceId], method: Decider) {
     out.decided.push(Decided {
         services: cluster.to_vec(),
-        method: Decider::Symbolic,
+        method,
         states: out.states,
         complete: out.stopped.is_none(),
     });
-    Some(out)
 }

@@ -34,8 +34,7 @@ pub(crate) fn analyse_cluster(
     let sym = match Symbolic::new_until(sys, limits.deadline) {
         Ok(sym) => sym,
         Err(Refusal::OutOfTime) => {
-            out.stopped = out.stopped.or(Some(Stop::Time));
-            out.unproven.extend(sys.services());
+            unproven(sys, Stop::Time, out);
             return Ok(());
         }
         Err(refusal) => return Err(refusal),
@@ -50,8 +49,7 @@ pub(crate) fn analyse_cluster(
         Some(_) => None,
     };
     let Some(verdicts) = verdicts else {
-        out.stopped = out.stopped.or(reach.stopped).or(Some(Stop::Time));
-        out.unproven.extend(sys.services());
+        unproven(sys, reach.stopped.unwrap_or(Stop::Time), out);
         return Ok(());
     };
     let mut paths: Vec<Vec<Action>> = vec![Vec::new()];
@@ -79,6 +77,13 @@ pub(crate) fn analyse_cluster(
     let path = |id: StateId| at(id).map(|w| w.0.clone()).unwrap_or_default();
     collect_cluster(sys, (prefix, global), (&config, &path), &found, out);
     Ok(())
+}
+
+/// A limit (`stop`) left the cluster `sys` unproven: nothing is established
+/// about its services.
+fn unproven(sys: &System<'_>, stop: Stop, out: &mut Analysis) {
+    out.stopped = out.stopped.or(Some(stop));
+    out.unproven.extend(sys.services());
 }
 
 /// The configuration `path` leads to from `init`, by the explicit rules.
