@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use genom_genom3::Genom3Options;
-use genom_model::{Dialect, Severity};
+use genom_model::{Assumption, Dialect, Severity};
 
 use crate::pipeline::{CheckOptions, CheckResult, InputError, Inputs, display};
 
@@ -67,7 +67,11 @@ pub(crate) fn check(
         (true, Some(c)) => genom_checker::verify_genom3(c, options, started),
         _ => None,
     };
-    if let Some(v) = explored {
+    if let Some(mut v) = explored {
+        if let Some(wcet) = &inputs.wcet_file {
+            let file = Assumption::wcet(&display(wcet));
+            v.statistics.assumptions.insert(0, file);
+        }
         result.extend(v.diagnostics);
         result.statistics = Some(v.statistics);
         result.response_times = v.response_times;

@@ -276,6 +276,7 @@ pub fn verify(
             complete: analysis.stopped.is_none(),
             bytes_per_state: Some(analysis.bytes_per_state),
             decided_by: decisions(c, &analysis, timed),
+            assumptions: Vec::new(),
         });
     }
     sort_diagnostics(&mut diagnostics);

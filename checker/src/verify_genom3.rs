@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use genom_model::component::{Component, ServiceId};
 use genom_model::stats::{Decision, Method as Decider};
-use genom_model::{Diagnostic, ResponseTime, Statistics, Trace};
+use genom_model::{Assumption, Diagnostic, ResponseTime, Statistics, Trace};
 
 use crate::checks::{
     dead_service, incomplete, livelock, response_time, thread_overrun, unreachable_codel,
@@ -124,6 +124,16 @@ pub fn verify_genom3(
         complete: out.iter().all(|d| d.code != genom_model::Code::Incomplete),
         bytes_per_state: Some(analysis.bytes_per_state),
         decided_by,
+        // Timing depends on how many requests run at once (F4); the
+        // untimed verdicts do not (section 14.3 of docs/genom3-semantics.md).
+        assumptions: if gives_timing(&m) {
+            vec![Assumption::instances(
+                m.max_instances,
+                m.has_self_interrupts(),
+            )]
+        } else {
+            Vec::new()
+        },
     };
     Some(Genom3Verdicts {
         diagnostics: out,

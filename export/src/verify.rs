@@ -195,6 +195,7 @@ mod tests {
             complete: true,
             bytes_per_state: None,
             decided_by: Vec::new(),
+            assumptions: Vec::new(),
         };
         let v = Verification::of(None, &diagnostics, Some(&stats), "1.2.3");
         assert!(!v.verified);

@@ -22,5 +22,5 @@ pub use diagnostic::{Code, Counts, Diagnostic, Label, Severity, sort_diagnostics
 pub use dialect::{Dialect, Pragma};
 pub use response::{Bound, ResponseTime};
 pub use span::{FileId, Located, SourceFile, SourceMap, Span};
-pub use stats::Statistics;
+pub use stats::{Assumption, Statistics};
 pub use trace::{Event, Trace, TraceStep};

@@ -19,6 +19,64 @@ pub struct Statistics {
     pub bytes_per_state: Option<f64>,
     /// What explored each part of the component, in exploration order.
     pub decided_by: Vec<Decision>,
+    /// What the verdicts rest on besides the component (rendered at the
+    /// file's level, JSON `assumptions`, not inside `statistics`).
+    #[serde(skip)]
+    pub assumptions: Vec<Assumption>,
+}
+
+/// Something a verdict rests on that the component itself does not say:
+/// the WCETs of a side file, or a bound on the executions explored. A
+/// clean verdict holds only under its assumptions.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub struct Assumption {
+    /// `wcet` (durations from a WCET file) or `instances` (a bound on the
+    /// concurrent instances of each activity).
+    pub kind: &'static str,
+    /// The WCET file, for `wcet`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// The bound, for `instances`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bound: Option<usize>,
+    /// What it says, in a sentence that follows "assuming".
+    pub text: String,
+}
+
+impl Assumption {
+    /// Codels take at most the WCETs of `file`.
+    pub fn wcet(file: &str) -> Self {
+        Assumption {
+            kind: "wcet",
+            file: Some(file.to_owned()),
+            bound: None,
+            text: format!("every codel takes at most its WCET from `{file}`"),
+        }
+    }
+
+    /// At most `n` concurrent instances of each activity; `restarts`: some
+    /// activity interrupts itself, and one more request for it, which
+    /// interrupts the running ones, is explored.
+    pub fn instances(n: usize, restarts: bool) -> Self {
+        let each = if n == 1 {
+            "at most 1 concurrent instance of each activity".to_owned()
+        } else {
+            format!("at most {n} concurrent instances of each activity")
+        };
+        let text = if restarts {
+            format!(
+                "{each}, plus one new request for an activity that interrupts itself (a client restarting it) while they run"
+            )
+        } else {
+            each
+        };
+        Assumption {
+            kind: "instances",
+            file: None,
+            bound: Some(n),
+            text,
+        }
+    }
 }
 
 impl Statistics {

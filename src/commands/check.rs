@@ -84,6 +84,9 @@ fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
         if !output.quiet {
             terminal::emit(&genom_model::response::render_table(report.response_times));
             terminal::emit(&(summary_line(report) + "\n"));
+            if let Some(a) = assumptions(report) {
+                terminal::emit(&format!("  {a}\n"));
+            }
         }
     }
     if !output.quiet {
@@ -201,7 +204,13 @@ fn print_github(reports: &[FileReport<'_>], output: &OutputArgs) {
     if output.quiet {
         terminal::emit(&github::render(&shown, None));
     } else {
-        let summaries: Vec<String> = reports.iter().map(summary_line).collect();
+        let summaries: Vec<String> = reports
+            .iter()
+            .map(|r| match assumptions(r) {
+                Some(a) => format!("{}; {a}", summary_line(r)),
+                None => summary_line(r),
+            })
+            .collect();
         terminal::emit(&github::render(&shown, Some(&summaries)));
     }
 }
@@ -235,6 +244,17 @@ pub(super) fn summary_line(report: &FileReport<'_>) -> String {
         ));
     }
     line
+}
+
+/// `assuming A; B` when the verdicts rest on something the component
+/// does not say (a WCET file, an instance bound).
+pub(super) fn assumptions(report: &FileReport<'_>) -> Option<String> {
+    let all = &report.statistics?.assumptions;
+    if all.is_empty() {
+        return None;
+    }
+    let texts: Vec<&str> = all.iter().map(|a| a.text.as_str()).collect();
+    Some(format!("assuming {}", texts.join("; ")))
 }
 
 /// `, symbolic` when the symbolic engine decided some part (the explicit

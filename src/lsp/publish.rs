@@ -47,7 +47,32 @@ pub fn by_file(
             .1
             .push(converted);
     }
+    if let Some(note) = assumptions(result, target) {
+        out.entry(target.document.as_str().to_owned())
+            .or_insert_with(|| (target.document.clone(), Vec::new()))
+            .1
+            .push(note);
+    }
     out
+}
+
+/// What the verdicts rest on (a WCET file, an instance bound), as an
+/// information at the component's name.
+fn assumptions(result: &CheckResult, target: &Target<'_>) -> Option<lsp_types::Diagnostic> {
+    let all = &result.statistics.as_ref()?.assumptions;
+    let c = result.component.as_ref()?;
+    if all.is_empty() {
+        return None;
+    }
+    let (_, range) = target.place(&result.sources, c.name.span)?;
+    let texts: Vec<&str> = all.iter().map(|a| a.text.as_str()).collect();
+    Some(lsp_types::Diagnostic {
+        range,
+        severity: Some(DiagnosticSeverity::INFORMATION),
+        source: Some("genom-check".to_owned()),
+        message: format!("the verdicts assume {}", texts.join("; ")),
+        ..lsp_types::Diagnostic::default()
+    })
 }
 
 impl Target<'_> {

@@ -8,7 +8,7 @@ use super::FileReport;
 use crate::diagnostic::{Counts, Diagnostic};
 use crate::response::JsonResponseTime;
 use crate::span::{SourceMap, Span};
-use crate::stats::Statistics;
+use crate::stats::{Assumption, Statistics};
 use crate::trace::{Trace, TraceStep};
 
 /// Version of the JSON document format.
@@ -43,6 +43,9 @@ pub struct JsonFile {
     /// Worst-case response times by service name (empty when not
     /// computed: no timing, or the engines did not run).
     pub response_times: Vec<JsonResponseTime>,
+    /// What the verdicts rest on besides the component (a WCET file, an
+    /// instance bound); empty when they rest on nothing else.
+    pub assumptions: Vec<Assumption>,
 }
 
 /// A `#pragma` line.
@@ -212,6 +215,10 @@ pub fn document_with_unread(reports: &[FileReport<'_>], unread: &[JsonUnread]) -
                     .iter()
                     .map(JsonResponseTime::from)
                     .collect(),
+                assumptions: r
+                    .statistics
+                    .map(|s| s.assumptions.clone())
+                    .unwrap_or_default(),
             }
         })
         .collect();

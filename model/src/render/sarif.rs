@@ -41,20 +41,44 @@ pub fn render(
         .flat_map(|r| r.diagnostics.iter().map(move |d| (r.sources, d)))
         .map(|(sources, d)| result(sources, d, index.get(d.code.as_str()).copied()))
         .collect();
+    let mut run = json!({
+        "tool": { "driver": {
+            "name": "genom-check",
+            "version": version,
+            "rules": rules,
+        }},
+        "columnKind": "unicodeCodePoints",
+        "results": results,
+    });
+    let notes: Vec<Value> = reports.iter().flat_map(assumption_notes).collect();
+    if !notes.is_empty() {
+        run["invocations"] = json!([{
+            "executionSuccessful": true,
+            "toolExecutionNotifications": notes,
+        }]);
+    }
     let log = json!({
         "$schema": SARIF_SCHEMA,
         "version": SARIF_VERSION,
-        "runs": [{
-            "tool": { "driver": {
-                "name": "genom-check",
-                "version": version,
-                "rules": rules,
-            }},
-            "columnKind": "unicodeCodePoints",
-            "results": results,
-        }],
+        "runs": [run],
     });
     serde_json::to_string_pretty(&log).unwrap_or_default() + "\n"
+}
+
+/// One `note` notification per assumption the file's verdicts rest on
+/// (a WCET file, an instance bound), located at the file.
+fn assumption_notes(r: &FileReport<'_>) -> Vec<Value> {
+    let all = r.statistics.map_or(&[][..], |s| &s.assumptions[..]);
+    all.iter()
+        .map(|a| {
+            json!({
+                "level": "note",
+                "descriptor": { "id": format!("assumption/{}", a.kind) },
+                "message": { "text": format!("{}: the verdicts assume {}", r.path, a.text) },
+                "locations": [{ "physicalLocation": { "artifactLocation": { "uri": r.path } } }],
+            })
+        })
+        .collect()
 }
 
 fn level(severity: Severity) -> &'static str {

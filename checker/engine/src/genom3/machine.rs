@@ -360,6 +360,33 @@ impl<'a> Machine<'a> {
         })
     }
 
+    /// The most instances of activity `a` explored at once:
+    /// `max_instances`, plus one for an activity that interrupts itself.
+    /// A client restarts such an activity by sending its request again: the
+    /// new instance interrupts the running ones and waits for them to end
+    /// (3.4, 5.3), its `validate` and their stop paths running meanwhile,
+    /// so `max_instances` running instances and one request interrupting
+    /// them live at once.
+    pub fn instance_bound(&self, a: usize) -> usize {
+        let own = self.activities[a].interrupts.contains(&a);
+        (self.max_instances + usize::from(own)).min(self.pool - 1)
+    }
+
+    /// Slots per activity in a packed state: the largest
+    /// [`Machine::instance_bound`].
+    pub fn slots(&self) -> usize {
+        (0..self.activities.len())
+            .map(|a| self.instance_bound(a))
+            .max()
+            .unwrap_or(self.max_instances)
+    }
+
+    /// Whether some activity interrupts itself (explored with one more
+    /// instance, [`Machine::instance_bound`]).
+    pub fn has_self_interrupts(&self) -> bool {
+        (0..self.activities.len()).any(|a| self.activities[a].interrupts.contains(&a))
+    }
+
     /// The name of service `s`.
     pub fn service_name(&self, s: ServiceId) -> &str {
         &self.c.services[s].name.name

@@ -39,6 +39,8 @@ pub struct Engine<'a> {
     /// The component.
     pub m: Machine<'a>,
     done_words: usize,
+    /// Slots per activity in the packed state ([`Machine::slots`]).
+    slots: usize,
     /// Per activity: requested in this exploration.
     acts: Vec<bool>,
     /// Per control service: requested in this exploration.
@@ -66,9 +68,11 @@ impl<'a> Engine<'a> {
     /// in `perms` only.
     pub fn part_tasks(m: Machine<'a>, acts: Vec<bool>, ctls: Vec<bool>, perms: Vec<bool>) -> Self {
         let done_words = m.c.services.len().div_ceil(64).max(1);
+        let slots = m.slots();
         Engine {
             m,
             done_words,
+            slots,
             acts,
             ctls,
             perms,
@@ -221,7 +225,7 @@ impl<'a> Engine<'a> {
             if used >= self.m.pool {
                 continue;
             }
-            if s.inst[a].len() >= self.m.max_instances {
+            if s.inst[a].len() >= self.m.instance_bound(a) {
                 continue;
             }
             out.push(G3Action::Accept(a as u16));
@@ -377,7 +381,7 @@ impl Model for Engine<'_> {
         G3State::width(
             self.m.tasks.len(),
             self.m.activities.len(),
-            self.m.max_instances,
+            self.slots,
             self.done_words,
         )
     }
@@ -412,7 +416,7 @@ impl Model for Engine<'_> {
     }
 
     fn encode(&self, s: &G3State, out: &mut Vec<u64>) {
-        s.encode(self.m.max_instances, out);
+        s.encode(self.slots, out);
     }
 
     fn decode(&self, w: &[u64], (): &()) -> G3State {
@@ -420,7 +424,7 @@ impl Model for Engine<'_> {
             w,
             self.m.tasks.len(),
             self.m.activities.len(),
-            self.m.max_instances,
+            self.slots,
             self.done_words,
         )
     }

@@ -320,7 +320,11 @@ impl Sim<'_, '_> {
         }
         if let Some(a) = self.activity_of(sid) {
             let mine = |i: &&Inst| i.owner == Owner::Activity(a);
-            if self.insts.iter().filter(mine).count() >= self.m.max_instances {
+            // A request to an activity that interrupts itself may come
+            // while its instances run (it interrupts them and waits).
+            let restart = self.m.c.services[sid].stops.iter().any(|r| r.id == sid);
+            let bound = self.m.max_instances + usize::from(restart);
+            if self.insts.iter().filter(mine).count() >= bound {
                 return Err(format!("`{name}` has its most instances already"));
             }
         }
