@@ -156,9 +156,13 @@ pub struct CheckArgs {
     #[arg(long, value_enum, default_value_t = EngineArg::Auto)]
     pub engine: EngineArg,
 
-    /// GenoM3: explore up to N instances of one activity at once (at most 31,
-    /// GenoM3's slots per task). One gives the untimed verdicts exactly;
-    /// more only cross-checks that [default: 1, or `genom-check.toml`'s].
+    /// GenoM3: explore up to N live requests of each activity at once (at
+    /// most 31, GenoM3's slots per task), plus, for an activity that
+    /// interrupts itself, one more request that restarts it while they run.
+    /// A timing verdict holds for clients that send at most N requests of an
+    /// activity before its replies come (restarts of a self-interrupting
+    /// activity included); the untimed verdicts do not depend on N
+    /// [default: 1, or `genom-check.toml`'s].
     #[arg(long, value_name = "N", value_parser = parse_instances)]
     pub max_instances: Option<usize>,
 

@@ -72,6 +72,7 @@ pub(crate) fn check(
             let file = Assumption::wcet(&display(wcet));
             v.statistics.assumptions.insert(0, file);
         }
+        v.attach_codel_overrun_traces(&mut result.diagnostics);
         result.extend(v.diagnostics);
         result.statistics = Some(v.statistics);
         result.response_times = v.response_times;

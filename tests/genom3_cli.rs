@@ -519,3 +519,72 @@ fn a_static_only_genom3_check_keeps_its_component() {
     assert!(r.component.is_some());
     assert!(r.statistics.is_none(), "nothing was explored");
 }
+
+/// A clean or partly clean timed verdict says what it rests on: the WCET
+/// file and the instance bound, in the summary, JSON, SARIF and GitHub
+/// formats; an untimed check rests on neither.
+#[test]
+fn timed_verdicts_state_their_assumptions_in_every_format() {
+    let source = "tests/fixtures/genom3/timing/f10_restart_fixed.gen";
+    let wcet = "tests/fixtures/genom3/timing/f10_restart_fixed.wcet";
+    let (status, file) = json(&["--wcet", wcet, source]);
+    assert_eq!(status, 0);
+    let all = file["assumptions"].as_array().unwrap();
+    assert_eq!(all.len(), 2, "{file:#}");
+    assert_eq!(all[0]["kind"], "wcet");
+    assert_eq!(all[0]["file"], wcet);
+    assert_eq!(all[1]["kind"], "instances");
+    assert_eq!(all[1]["bound"], 1);
+    assert!(
+        all[1]["text"]
+            .as_str()
+            .unwrap()
+            .contains("interrupts itself")
+    );
+    let (_, two) = json(&["--wcet", wcet, "--max-instances", "2", source]);
+    assert_eq!(two["assumptions"][1]["bound"], 2);
+    let (_, untimed) = json(&[source]);
+    assert_eq!(untimed["assumptions"].as_array().unwrap().len(), 0);
+
+    let human = genom_check()
+        .args(["--wcet", wcet, source])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&human.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("assuming "))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(line.contains(&format!("its WCET from `{wcet}`")), "{line}");
+    assert!(
+        line.contains("at most 1 concurrent request of each activity"),
+        "{line}"
+    );
+
+    let sarif = genom_check()
+        .args(["--format", "sarif", "--wcet", wcet, source])
+        .output()
+        .unwrap();
+    let doc: Value = serde_json::from_slice(&sarif.stdout).unwrap();
+    let notes = doc["runs"][0]["invocations"][0]["toolExecutionNotifications"]
+        .as_array()
+        .unwrap();
+    assert_eq!(notes.len(), 2);
+    assert_eq!(notes[0]["level"], "note");
+    assert!(
+        notes[1]["message"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("concurrent request")
+    );
+
+    let github = genom_check()
+        .args(["--format", "github", "--wcet", wcet, source])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&github.stdout);
+    assert!(
+        text.contains("assuming every codel takes at most its WCET"),
+        "{text}"
+    );
+}

@@ -70,11 +70,9 @@ fn assert_clean_traces(r: &CheckResult) {
 fn assert_traces_n(r: &CheckResult, instances: usize) {
     let c = r.component.as_ref().expect("a component");
     for d in &r.diagnostics {
-        assert!(
-            d.severity != Severity::Error || d.code == Code::ThreadOverrun,
-            "{d:#?}"
-        );
-        if d.code != Code::ThreadOverrun {
+        let overrun = matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun);
+        assert!(d.severity != Severity::Error || overrun, "{d:#?}");
+        if !overrun {
             continue;
         }
         let t = d.trace.as_ref().expect("a trace");
@@ -115,6 +113,101 @@ fn point_4_instances_of_one_activity_share_the_period() {
     assert!(naive_overrunning(&two).is_empty());
     let self_interrupting = check_n("f4_self_interrupt", 2);
     assert!(overrunning(&self_interrupting).is_empty());
+}
+
+#[test]
+fn a_client_restarting_an_activity_that_interrupts_itself_is_explored_by_default() {
+    // The default (`--max-instances 1`) explores a second request for
+    // `track` while an instance runs: its validate waits for
+    // `plan_compute`, the running instance's codel queues behind it.
+    let r = check("f10_restart");
+    assert_eq!(overrunning(&r), ["driver"]);
+    assert_clean_traces(&r);
+    let d = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun)
+        .unwrap();
+    let t = d.trace.as_ref().unwrap();
+    let validates = t
+        .steps
+        .iter()
+        .filter(|s| s.service.as_deref() == Some("track") && s.thread.as_deref() == Some("control"))
+        .filter(|s| s.codel.as_deref() == Some("validate"))
+        .count();
+    assert!(validates >= 2, "two requests for `track` validate: {t:#?}");
+    // The verdict says what it rests on.
+    let stats = r.statistics.as_ref().unwrap();
+    let kinds: Vec<_> = stats.assumptions.iter().map(|a| a.kind).collect();
+    assert_eq!(kinds, ["wcet", "instances"]);
+    assert!(stats.assumptions[1].text.contains("interrupts itself"));
+    assert_eq!(stats.assumptions[1].bound, Some(1));
+    // Fixed: the validate reads nothing `plan_compute` holds.
+    let fixed = check("f10_restart_fixed");
+    assert!(overrunning(&fixed).is_empty(), "{:#?}", fixed.diagnostics);
+    assert_eq!(fixed.statistics.as_ref().unwrap().assumptions.len(), 2);
+}
+
+#[test]
+fn one_overrun_does_not_hide_another_and_each_has_its_trace() {
+    let r = check("f11_hidden");
+    assert_clean_traces(&r);
+    let of = |code| -> Vec<&str> {
+        r.diagnostics
+            .iter()
+            .filter(|d| d.code == code)
+            .map(|d| d.message.as_str())
+            .collect()
+    };
+    // The chain of `sweep` (60 ms in a 50 ms period) is reported beside
+    // the long codel of `calibrate`, not hidden by it.
+    assert_eq!(
+        of(Code::ThreadOverrun),
+        ["task `t` can overrun its 50ms period: a chain of codels without `pause::`"]
+    );
+    let chain = first_overrun_trace(&r);
+    assert!(
+        chain
+            .steps
+            .iter()
+            .any(|s| s.service.as_deref() == Some("sweep")),
+        "{chain:#?}"
+    );
+    assert!(
+        chain
+            .steps
+            .iter()
+            .all(|s| s.service.as_deref() != Some("calibrate")),
+        "the chain's trace needs no `calibrate`: {chain:#?}"
+    );
+    assert_eq!(
+        of(Code::CodelOverrun),
+        ["codel `cal_run` of activity `calibrate` may take 70ms but task `t` wakes up every 50ms"]
+    );
+    let fixed = check("f11_hidden_fixed");
+    assert!(fixed.diagnostics.is_empty(), "{:#?}", fixed.diagnostics);
+}
+
+#[test]
+fn a_permanent_codel_longer_than_the_period_is_a_codel_overrun_with_a_trace() {
+    let r = check("f11_permanent_long");
+    assert_clean_traces(&r);
+    assert!(overrunning(&r).is_empty());
+    let d: Vec<_> = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::CodelOverrun)
+        .collect();
+    assert_eq!(d.len(), 1);
+    assert_eq!(
+        d[0].message,
+        "codel `t_main` of the permanent activity of task `t` may take 70ms but task `t` wakes up every 50ms"
+    );
+    let t = d[0].trace.as_ref().expect("a trace");
+    assert!(
+        t.steps.iter().any(|s| s.codel.as_deref() == Some("main")),
+        "{t:#?}"
+    );
 }
 
 #[test]

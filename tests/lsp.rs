@@ -733,7 +733,29 @@ fn hover_shows_the_worst_response_time_after_a_save() {
         "textDocument/didSave",
         json!({ "textDocument": { "uri": uri } }),
     );
-    client.diagnostics(&uri);
+    // The verdicts say what they rest on: an information at the
+    // component's name.
+    let saved = client.diagnostics(&uri);
+    let note = saved
+        .iter()
+        .find(|d| d["severity"] == 3)
+        .unwrap_or_else(|| panic!("{saved:?}"));
+    let message = note["message"].as_str().unwrap();
+    assert!(
+        message.starts_with("the verdicts assume every codel takes at most its WCET from"),
+        "{message}"
+    );
+    assert!(message.contains("r1.wcet"), "{message}");
+    assert!(
+        message.contains("at most 1 concurrent request"),
+        "{message}"
+    );
+    assert_eq!(
+        note["range"]["start"]["line"],
+        text.lines()
+            .position(|l| l.starts_with("component"))
+            .unwrap()
+    );
     let after = client.request("textDocument/hover", at);
     let after = after["contents"]["value"].as_str().unwrap();
     assert!(after.contains("worst-case response time: 23ms"), "{after}");

@@ -12,10 +12,11 @@ use std::time::Instant;
 
 use genom_model::component::{Component, ServiceId};
 use genom_model::stats::{Decision, Method as Decider};
-use genom_model::{Assumption, Diagnostic, ResponseTime, Statistics, Trace};
+use genom_model::{Assumption, Diagnostic, ResponseTime, Span, Statistics, Trace};
 
 use crate::checks::{
-    dead_service, incomplete, livelock, response_time, thread_overrun, unreachable_codel,
+    codel_overrun, dead_service, incomplete, livelock, response_time, thread_overrun,
+    unreachable_codel,
 };
 use crate::genom3::steps::Engine;
 use crate::genom3::timed::analysis::analyse_timing;
@@ -34,6 +35,17 @@ pub struct Genom3Verdicts {
     /// Worst-case response times (with `--response-times` or a
     /// `--deadline`, and WCETs).
     pub response_times: Vec<ResponseTime>,
+    /// The traces of codels longer than their period (by FSM codel span),
+    /// for the static `codel-overrun` diagnostics.
+    pub long_codels: Vec<(Span, Trace)>,
+}
+
+impl Genom3Verdicts {
+    /// Gives each `codel-overrun` among `diagnostics` (the static stage's)
+    /// the trace the timed engine found for its codel.
+    pub fn attach_codel_overrun_traces(&self, diagnostics: &mut [Diagnostic]) {
+        codel_overrun::attach_genom3_traces(&self.long_codels, diagnostics);
+    }
 }
 
 /// Explores a GenoM3 component (`None` for a LANGUAGE.md component).
@@ -69,6 +81,7 @@ pub fn verify_genom3(
         analysis.states,
         analysis.stopped.is_none(),
     )];
+    let mut long_codels = Vec::new();
     if gives_timing(&m) {
         match analyse_timing(&m, options.limits(started)) {
             Some(timing) => {
@@ -79,6 +92,7 @@ pub fn verify_genom3(
                     timing.stopped.is_none(),
                 ));
                 out.extend(thread_overrun::check_genom3(&m, &timing));
+                long_codels = codel_overrun::genom3_traces(&m, &timing);
                 if let Some(stop) = timing.stopped {
                     out.push(incomplete::incomplete(
                         c,
@@ -139,6 +153,7 @@ pub fn verify_genom3(
         diagnostics: out,
         statistics: stats,
         response_times,
+        long_codels,
     })
 }
 

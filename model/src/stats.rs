@@ -59,9 +59,12 @@ impl Assumption {
     /// interrupts the running ones, is explored.
     pub fn instances(n: usize, restarts: bool) -> Self {
         let each = if n == 1 {
-            "at most 1 concurrent instance of each activity".to_owned()
+            "at most 1 concurrent request of each activity (from its `validate` to its reply)"
+                .to_owned()
         } else {
-            format!("at most {n} concurrent instances of each activity")
+            format!(
+                "at most {n} concurrent requests of each activity (from its `validate` to its reply)"
+            )
         };
         let text = if restarts {
             format!(

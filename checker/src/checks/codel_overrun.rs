@@ -1,10 +1,16 @@
 //! `codel-overrun`: a codel whose WCET is longer than the period of the
 //! thread that runs it (a static check on the WCETs).
 
-use genom_model::component::Component;
+use std::collections::BTreeSet;
+
+use genom_model::component::genom3::{FsmCodel, Genom3Info};
+use genom_model::component::{Component, ThreadId};
 use genom_model::kinds::CodelKind;
 use genom_model::render::human::format_ns;
-use genom_model::{Code, Diagnostic};
+use genom_model::{Code, Diagnostic, Span, Trace};
+
+use crate::genom3::Machine;
+use crate::genom3::timed::analysis::{Cause, TimingAnalysis};
 
 /// `genom-check explain codel-overrun`.
 pub const EXPLANATION: &str = r#"A codel whose worst-case execution time (its `max-time`) is longer than the
@@ -30,6 +36,9 @@ on a slower or aperiodic thread."#;
 
 /// Codels whose WCET exceeds their thread's period.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
+    if let Some(g) = c.genom3.as_deref() {
+        return check_genom3(c, g);
+    }
     let mut out = Vec::new();
     // Control codels run on the control thread, not the service's thread.
     for codel in c.codels.values().filter(|k| k.kind != CodelKind::Control) {
@@ -61,6 +70,94 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
         }
     }
     out
+}
+
+/// GenoM3: every codel (of an activity or of a task's permanent
+/// activity) whose WCET, from the WCET file, exceeds its task's period.
+/// One diagnostic per codel, however many states it runs in; the primary
+/// label is the codel in the `.gen`, where it is fixed. The timed GenoM3
+/// engine gives it a trace ([`attach_genom3_traces`]).
+fn check_genom3(c: &Component, g: &Genom3Info) -> Vec<Diagnostic> {
+    let mut seen = BTreeSet::new();
+    let mut out = Vec::new();
+    for task in &g.tasks {
+        let whose = format!(
+            "the permanent activity of task `{}`",
+            c.threads[task.thread].name.name
+        );
+        for k in &task.codels {
+            out.extend(genom3_overrun(c, task.thread, &whose, k));
+        }
+    }
+    for info in &g.codels {
+        let codel = &c.codels[info.codel];
+        let svc = &c.services[codel.service];
+        let Some(t) = svc.thread.filter(|_| codel.kind != CodelKind::Control) else {
+            continue;
+        };
+        if seen.insert(info.fsm.span) {
+            let whose = format!("activity `{}`", svc.name.name);
+            out.extend(genom3_overrun(c, t.id, &whose, &info.fsm));
+        }
+    }
+    out
+}
+
+/// The `codel-overrun` of FSM codel `k` of `whose` on `task`, if its WCET
+/// exceeds the period.
+fn genom3_overrun(c: &Component, task: ThreadId, whose: &str, k: &FsmCodel) -> Option<Diagnostic> {
+    let t = &c.threads[task];
+    let (wcet, period) = (k.wcet?, t.period?);
+    (wcet.ns > period.ns).then(|| {
+        Diagnostic::new(
+            Code::CodelOverrun,
+            format!(
+                "codel `{}` of {whose} may take {} but task `{}` wakes up every {}",
+                k.function.name,
+                format_ns(wcet.ns),
+                t.name.name,
+                format_ns(period.ns)
+            ),
+            k.function.span,
+            format!("its WCET, {}, is longer than the period", format_ns(wcet.ns)),
+        )
+        .with_label(period.span, format!("the period of `{}`", t.name.name))
+        .with_help("split its work into codels joined by `yield pause::…` (one per wake-up), or run it on a task with a longer period")
+    })
+}
+
+/// The codels longer than their period that the timed GenoM3 engine saw
+/// still running at a tick: each FSM codel's span with that trace.
+pub fn genom3_traces(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<(Span, Trace)> {
+    timing
+        .overruns
+        .iter()
+        .filter_map(|o| match o.cause {
+            Cause::LongCodel(owner, state) => Some((
+                m.fsm(owner).states[usize::from(state)].span,
+                o.trace.clone(),
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Gives each GenoM3 `codel-overrun` the trace of its codel among
+/// `traces` ([`genom3_traces`]); a codel that no execution runs keeps
+/// none.
+pub fn attach_genom3_traces(traces: &[(Span, Trace)], diagnostics: &mut [Diagnostic]) {
+    for d in diagnostics
+        .iter_mut()
+        .filter(|d| d.code == Code::CodelOverrun && d.trace.is_none())
+    {
+        let at = d.span();
+        let found = traces
+            .iter()
+            .find(|(span, _)| span.start <= at.start && at.end <= span.end);
+        if let Some((_, trace)) = found {
+            d.trace = Some(trace.clone());
+        }
+    }
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use genom_model::render::human::format_ns;
 use genom_model::{Code, Diagnostic, Trace};
 
 use crate::genom3::Machine;
-use crate::genom3::timed::analysis::TimingAnalysis;
+use crate::genom3::timed::analysis::{Cause, TimingAnalysis};
 use crate::timed::TimedFacts;
 
 /// `genom-check explain thread-overrun`.
@@ -83,30 +83,41 @@ pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
         .collect()
 }
 
-/// One diagnostic per GenoM3 task that can overrun (the timed GenoM3
-/// engine's findings).
+/// One diagnostic per GenoM3 task and cause of overrun (the timed GenoM3
+/// engine's findings), each with its own trace. A codel longer than the
+/// period is a `codel-overrun` ([`super::codel_overrun::check_genom3`]),
+/// which carries that cause's trace; it hides no other cause.
 pub fn check_genom3(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<Diagnostic> {
-    // A task with a codel longer than its period has `codel-overrun`.
-    let long_codel = |t: usize| {
-        let period = m.tasks[t].period_ns.unwrap_or(u64::MAX);
-        m.activities
-            .iter()
-            .filter(|a| a.task == t)
-            .flat_map(|a| a.fsm.states.iter())
-            .any(|s| s.wcet_ns.is_some_and(|w| w > period))
-    };
     timing
         .overruns
         .iter()
-        .filter(|o| !long_codel(o.task))
-        .map(|o| {
-            overrun(
+        .filter_map(|o| {
+            let (why, label, help) = match o.cause {
+                Cause::LongCodel(..) => return None,
+                Cause::LockWait => (
+                    ": a codel waits for a lock",
+                    "a codel of its wake-up waits for a lock (GenoM3's resource queue) and ends after the next tick",
+                    "shorten the codels that hold the lock, make them touch fewer ids members or ports, or move one of them to another task",
+                ),
+                Cause::Chain => (
+                    ": a chain of codels without `pause::`",
+                    "codels joined without `pause::` run in one wake-up and end after the next tick",
+                    "yield `pause::` between codels of the chain so that it spreads over periods, or shorten the codels",
+                ),
+                Cause::Shared => (
+                    ": its instances' codels together",
+                    "the codels of its instances (one each per sweep, its permanent codels included) end after the next tick",
+                    "make instances interrupt each other (`interrupts`), shorten the codels, or move an activity to another task",
+                ),
+            };
+            Some(overrun_because(
                 &m.c.threads[m.tasks[o.task].thread],
                 "task",
-                "its wake-up (every unpaused instance, chains without `pause::`, lock waits) can take longer than the period",
-                "add `pause::` between codels of a chain, make instances interrupt each other (`interrupts`), shorten the codels, or move an activity to another task",
+                why,
+                label,
+                help,
                 &o.trace,
-            )
+            ))
         })
         .collect()
 }
@@ -114,11 +125,23 @@ pub fn check_genom3(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<Diagnostic>
 /// The diagnostic of thread `t` (a `thread` or a GenoM3 `task`) overrunning,
 /// with its trace.
 fn overrun(t: &Thread, what: &str, label: &str, help: &str, trace: &Trace) -> Diagnostic {
+    overrun_because(t, what, "", label, help, trace)
+}
+
+/// [`overrun`] whose message ends with `why` (empty, or `: …`).
+fn overrun_because(
+    t: &Thread,
+    what: &str,
+    why: &str,
+    label: &str,
+    help: &str,
+    trace: &Trace,
+) -> Diagnostic {
     let period = t.period.map_or(0, |p| p.ns);
     let mut d = Diagnostic::new(
         Code::ThreadOverrun,
         format!(
-            "{what} `{}` can overrun its {} period",
+            "{what} `{}` can overrun its {} period{why}",
             t.name.name,
             format_ns(period)
         ),

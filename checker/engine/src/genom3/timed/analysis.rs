@@ -13,21 +13,47 @@ use genom_model::trace::{Event, Trace, TraceStep};
 use super::groups::groups;
 use super::locks::Locks;
 use super::trace::timed_trace;
-use super::{TG3State, TimedEngine, unit_ns};
+use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
 use crate::engine::explore::{Limits, Stop, explore};
 use crate::engine::store::StateId;
 use crate::genom3::analysis::describe;
-use crate::genom3::machine::Machine;
-use crate::genom3::state::mark;
+use crate::genom3::machine::{Machine, Owner, Target};
+use crate::genom3::state::{Inst, mark};
 
-/// A task that can overrun, with its trace.
+/// A task that can overrun for one cause, with its trace.
 #[derive(Debug, Clone)]
 pub struct TaskOverrun {
     /// Index of the task in [`Machine::tasks`].
     pub task: usize,
+    /// What made the tick find the work unfinished.
+    pub cause: Cause,
     /// The trace, ending at the tick that finds work unfinished.
     pub trace: Trace,
 }
+
+/// Why a task's tick finds the work of its previous wake-up unfinished.
+/// Each cause is reported with its own trace, so that one does not hide
+/// another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Cause {
+    /// A codel (its owner's machine, its state) whose WCET is longer than
+    /// the period still runs: the codel alone overruns (`codel-overrun`).
+    LongCodel(Owner, u8),
+    /// A codel of the task took a ticket in GenoM3's resource FIFO in that
+    /// wake-up: it waited for a lock.
+    LockWait,
+    /// An instance ran several codels joined without `pause::` in that
+    /// wake-up.
+    Chain,
+    /// The codels of several instances (the permanent activity's included)
+    /// shared the wake-up.
+    Shared,
+}
+
+/// Violations of one task examined for their cause, at most (breadth
+/// first, so the shortest come first); the long-codel cause is read off
+/// the state and needs none.
+const EXAMINED: usize = 256;
 
 /// What the timed exploration found.
 #[derive(Debug, Clone, Default)]
@@ -64,30 +90,114 @@ pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis>
             break;
         }
     }
-    out.overruns.sort_by_key(|o| o.task);
+    out.overruns.sort_by_key(|o| (o.task, o.cause));
     Some(out)
 }
 
-/// Explores one group and adds its findings.
+/// Explores one group and adds its findings: per task, the first
+/// violation of each [`Cause`].
 fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis) {
-    let mut first: BTreeMap<usize, StateId> = BTreeMap::new();
+    let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
+    let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
     let e = explore(te, limits, |id, st: &TG3State| {
-        if let Some(t) = st.violation {
-            first.entry(usize::from(t)).or_insert(id);
+        let Some(t) = st.violation.map(usize::from) else {
+            return;
+        };
+        match long_codel(te, st, t) {
+            Some(cause) => {
+                long.entry((t, cause)).or_insert(id);
+            }
+            None => {
+                let ids = other.entry(t).or_default();
+                if ids.len() < EXAMINED {
+                    ids.push(id);
+                }
+            }
         }
     });
-    out.overruns.extend(first.iter().map(|(&task, &id)| {
-        let path = e.store.path(id);
-        let end = e.store_config(te, id);
-        let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
-        TaskOverrun {
-            task,
-            trace: timed_trace(te, &path, last),
+    let mut first = long;
+    for (&t, ids) in &other {
+        for &id in ids {
+            let cause = cause_on_path(te, &e.store.path(id), t);
+            first.entry((t, cause)).or_insert(id);
         }
-    }));
+    }
+    out.overruns
+        .extend(first.iter().map(|(&(task, cause), &id)| {
+            let path = e.store.path(id);
+            let end = e.store_config(te, id);
+            let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
+            TaskOverrun {
+                task,
+                cause,
+                trace: timed_trace(te, &path, last),
+            }
+        }));
     out.states += e.store.len() as u64;
     out.transitions += e.transitions;
     out.stopped = out.stopped.or(e.stopped);
+}
+
+/// A codel of task `t` longer than its period, still running in `st`.
+fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
+    let m = te.m();
+    let period = m.tasks[t].period_ns?;
+    te.instances(&st.g, t).into_iter().find_map(|(who, i)| {
+        let owner = who.owner();
+        let wcet = m.fsm(owner).states[usize::from(i.state)].wcet_ns?;
+        (i.has(mark::BUSY) && wcet > period).then_some(Cause::LongCodel(owner, i.state))
+    })
+}
+
+/// The cause of the violation of task `t` that `path` ends with, read off
+/// the steps of the wake-up it overran (those after `t`'s previous tick).
+fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
+    let m = te.m();
+    let mine = |who: Who| m.task_of(who.owner()) == t;
+    let ticks = path
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| matches!(a, TG3Action::Tick(x) if usize::from(*x) == t))
+        .map(|(k, _)| k);
+    let from = ticks.rev().nth(1).unwrap_or(0);
+    let wake = &path[from..];
+    // A codel longer than the period that ran in the wake-up is the cause
+    // (though it ended, what followed it could not fit).
+    let period = m.tasks[t].period_ns.unwrap_or(u64::MAX);
+    let long = wake.iter().find_map(|a| match *a {
+        TG3Action::Begin(who, v) if mine(who) => {
+            let i = Inst::unpack(v)?;
+            let wcet = m.fsm(who.owner()).states[usize::from(i.state)].wcet_ns?;
+            (wcet > period).then_some(Cause::LongCodel(who.owner(), i.state))
+        }
+        _ => None,
+    });
+    if let Some(cause) = long {
+        return cause;
+    }
+    if wake
+        .iter()
+        .any(|a| matches!(*a, TG3Action::Ticket(who, _) if mine(who)))
+    {
+        return Cause::LockWait;
+    }
+    let unpaused = |who: Who, v: u16, o: u8| {
+        let Some(i) = Inst::unpack(v) else {
+            return false;
+        };
+        let st = &m.fsm(who.owner()).states[usize::from(i.state)];
+        matches!(
+            st.yields.get(usize::from(o)),
+            Some(Target::State { pause: false, .. })
+        )
+    };
+    if wake
+        .iter()
+        .any(|a| matches!(*a, TG3Action::End(who, v, o) if mine(who) && unpaused(who, v, o)))
+    {
+        return Cause::Chain;
+    }
+    Cause::Shared
 }
 
 /// What the tick of task `t` finds unfinished in `st`.

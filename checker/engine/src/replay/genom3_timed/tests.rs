@@ -3,6 +3,7 @@
 //! the right reason.
 #![allow(clippy::expect_used, clippy::unwrap_used)]
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use genom_model::component::Component;
@@ -55,7 +56,7 @@ fn fixture_names() -> Vec<String> {
 
 #[test]
 fn every_fixture_overrun_replays() {
-    let mut replayed = 0;
+    let mut replayed: BTreeMap<String, (usize, usize)> = BTreeMap::new();
     for name in fixture_names() {
         let c = fixture(&name);
         for n in [1, 2] {
@@ -65,14 +66,38 @@ fn every_fixture_overrun_replays() {
                 if let Err(e) = replay_genom3_timed(&c, n, &trace) {
                     panic!("{name} (n = {n}, task {task}): {e}\n{trace:#?}");
                 }
-                replayed += 1;
+                let e = replayed.entry(name.clone()).or_default();
+                if n == 1 {
+                    e.0 += 1;
+                } else {
+                    e.1 += 1;
+                }
             }
         }
     }
-    // f1b (1, 1), f1b paused (0, 1), f3 (2, 2), f4 (0, 1), f7 free (0, 1),
-    // f7 lock (1, 1), f7 attribute copy (1, 1), f9 FIFO (1, 1), f9
-    // granularity (2, 2), f9 writers (0, 2).
-    assert_eq!(replayed, 21);
+    // Overrun traces (one per task and cause) with one and two instances.
+    let expected = [
+        ("f10_restart", (1, 3)),
+        ("f10_restart_fixed", (0, 1)),
+        ("f11_hidden", (2, 3)),
+        ("f11_hidden_fixed", (0, 1)),
+        ("f11_permanent_long", (1, 1)),
+        ("f1b_chain_overrun", (1, 2)),
+        ("f1b_chain_paused", (0, 1)),
+        ("f3_permanent_lock", (2, 2)),
+        ("f4_instances", (0, 1)),
+        ("f7_attribute_copy", (1, 1)),
+        ("f7_control_free", (0, 1)),
+        ("f7_control_lock", (1, 2)),
+        ("f9_fifo", (1, 1)),
+        ("f9_granularity", (4, 3)),
+        ("f9_writers", (0, 2)),
+    ];
+    let expected: BTreeMap<String, (usize, usize)> = expected
+        .iter()
+        .map(|(k, v)| ((*k).to_owned(), *v))
+        .collect();
+    assert_eq!(replayed, expected);
 }
 
 fn demo() -> Component {
