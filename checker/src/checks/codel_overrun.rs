@@ -32,7 +32,26 @@ service servo {
 ```
 
 Split the codel into shorter steps (codels chained with `next`), or run it
-on a slower or aperiodic thread."#;
+on a slower or aperiodic thread.
+
+GenoM3 components (WCETs from `--wcet FILE`): a codel of an activity, or of
+a task's permanent activity, whose WCET is longer than the period of its
+task. GenoM3 never preempts a codel, so when it takes that long the task's
+next tick finds it still running, whatever else the task does. It is
+reported at the codel, with the timed trace of a tick that finds it
+running, and it hides no other cause of overrun of the same task (those
+are `thread-overrun`s of their own).
+
+```
+task t { period 50 ms; };
+activity calibrate() {
+  task t;
+  codel<start> cal_run(out a) yield ether;     // WCET file: calibrate.start 70ms
+};
+```
+
+Split the work into codels joined by `yield pause::…` (one per wake-up),
+or move the activity to a task with a longer period."#;
 
 /// Codels whose WCET exceeds their thread's period.
 pub fn check(c: &Component) -> Vec<Diagnostic> {

@@ -17,14 +17,21 @@ Why it matters: a verifier must never say "verified" when it did not finish.
 Violations found before the limit are real (they come with traces), but the
 absence of a violation is not proven, so the exit status is 1.
 
-A GenoM3 component checked with WCETs (`--wcet`) also gets it: the GenoM3
-engine explores GenoM3's semantics without time, so its untimed verdicts
-(dead services, codel reachability, livelocks) stand, but schedulability and
-response times are not verified yet.
-
 For a limit: raise it, or simplify the component: services that share no `stops`,
 `delays` or `forbids` are verified separately, so cutting such links between
-groups of services reduces the state space."#;
+groups of services reduces the state space.
+
+GenoM3 components: the message says which exploration stopped. The untimed
+one (dead services, unreachable codels, livelocks) explores activities that
+are linked by `interrupts`, `after` or `before` together; the timed one
+(`--wcet FILE`: which tasks can overrun) explores together the tasks whose
+codels wait for each other's locks (ids members, ports) or whose activities
+are linked. An overrun found before the limit is real, with its trace; a
+task without one is not proven schedulable. Raise `--timeout` or
+`--max-states`, lower `--max-instances` if you raised it (each more
+concurrent request of an activity multiplies the states), or cut links: an
+activity on its own task that touches no ids member another task's codels
+use is explored alone."#;
 
 /// Verification stopped by `stop`; `what` names the unproven properties.
 pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {

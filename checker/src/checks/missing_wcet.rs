@@ -22,7 +22,24 @@ service moveDistance {
 }
 ```
 
-Give every codel a `max-time` measured on the target, with a margin."#;
+Give every codel a `max-time` measured on the target, with a margin.
+
+GenoM3 components: the WCETs come from a side file given with
+`--wcet FILE` (or `[wcet]` in genom-check.toml), one `OWNER.STATE DURATION`
+line per codel, where OWNER is an activity, a function or attribute (state
+`validate` for its validate codel) or a task (its permanent codels):
+
+```
+track.start     1ms
+track.run       6ms
+track.validate  10us
+driver.start    200us
+```
+
+A codel without a line is taken as running in no time, so the tasks that
+run it are not proven to fit their period (`thread-overrun`) and the
+response times of the services that use it are too small. Without any WCET
+file the timed analysis does not run at all."#;
 
 /// One advice for the component, when something timing-related depends on
 /// codels without WCET.

@@ -54,7 +54,18 @@ activity chain() {
 
 Add `pause::` so that a chain spreads over wake-ups, declare `interrupts`
 so that instances do not pile up, shorten the codels, or move an activity
-to another task."#;
+to another task.
+
+Each cause is its own diagnostic with its own trace, the message saying
+which: `a codel waits for a lock` (the trace's `lock-wait` steps show the
+tickets it queued behind, GenoM3 serving them in order), `a chain of
+codels without pause::`, or `its instances' codels together`. A codel
+longer than the period is a `codel-overrun` instead.
+
+The verdict rests on the WCET file and on how many requests of each
+activity clients send at once (`--max-instances N`, default 1, plus one
+request restarting an activity that interrupts itself): the summary's
+`assuming …` line says both; a clean result holds under them only."#;
 
 /// One diagnostic per thread that can overrun.
 pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
