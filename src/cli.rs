@@ -275,7 +275,9 @@ fn parse_deadline(text: &str) -> Result<(String, u64), String> {
         0
     } else {
         u64::try_from(parse_duration(duration)?.as_nanos())
-            .map_err(|_| format!("`{duration}` is too long"))?
+            .ok()
+            .filter(|&ns| ns <= genom_model::limits::MAX_DURATION_NS)
+            .ok_or_else(|| genom_model::limits::duration_too_long(duration.trim()))?
     };
     Ok((name.to_owned(), ns))
 }

@@ -138,15 +138,37 @@ pub fn for_file(
             None => return Ok(None),
         },
     };
-    let text = std::fs::read_to_string(&path).map_err(|e| {
+    let text = read_bounded(&path).map_err(|why| {
         ConfigError::new(
             &path,
             "",
             None,
-            format!("cannot read `{}`: {e}", path.display()),
+            format!("cannot read `{}`: {why}", path.display()),
         )
     })?;
     parse(&path, &text).map(Some)
+}
+
+/// The most bytes a configuration file may hold.
+const MAX_CONFIG_BYTES: u64 = 1 << 20;
+
+/// The text of a configuration file: a regular file (not a FIFO or a
+/// device, which could block or never end) of at most
+/// [`MAX_CONFIG_BYTES`], in UTF-8.
+fn read_bounded(path: &Path) -> Result<String, String> {
+    use std::io::Read as _;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !meta.is_file() {
+        return Err("it is not a regular file (a device, FIFO or socket)".to_owned());
+    }
+    if meta.len() > MAX_CONFIG_BYTES {
+        return Err(format!("it is larger than {MAX_CONFIG_BYTES} bytes"));
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_CONFIG_BYTES).read_to_string(&mut text))
+        .map_err(|e| e.to_string())?;
+    Ok(text)
 }
 
 /// The nearest `genom-check.toml` above `checked` (standard input: from
@@ -161,7 +183,10 @@ fn find(checked: &Path) -> Option<PathBuf> {
     start
         .ancestors()
         .map(|d| d.join(FILE_NAME))
-        .find(|p| p.is_file())
+        // Any entry of that name counts, even one that cannot be read (a
+        // symlink into an unreadable folder): reading it then fails with
+        // exit 2, rather than its settings being silently ignored.
+        .find(|p| p.symlink_metadata().is_ok())
 }
 
 /// Parses the text of a configuration file read from `path`.

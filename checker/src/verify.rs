@@ -183,7 +183,8 @@ impl CheckOptions {
 
     /// When a check started at `started` must stop (`--timeout`), if ever.
     pub fn deadline(&self, started: Instant) -> Option<Instant> {
-        self.timeout.map(|t| started + t)
+        // A timeout past what the clock can represent is no deadline.
+        self.timeout.and_then(|t| started.checked_add(t))
     }
 
     /// The limits of a check started at `started`, as every phase looks at

@@ -13,6 +13,19 @@
 
 use std::time::Instant;
 
+/// The longest duration genom-check reads (a period, delay, WCET,
+/// `max-time` or deadline): one day, in nanoseconds. Sums of thousands of
+/// such durations stay far below the range of the timed engines'
+/// arithmetic (zone bounds hold constants below 2^61), so no sum wraps or
+/// saturates into a verdict; a longer duration is an error where it is
+/// read.
+pub const MAX_DURATION_NS: u64 = 86_400_000_000_000;
+
+/// The error text for a duration above [`MAX_DURATION_NS`].
+pub fn duration_too_long(text: &str) -> String {
+    format!("`{text}` is longer than genom-check's limit of one day (86400s) for a duration")
+}
+
 use crate::{Code, Diagnostic, Span};
 
 /// The live heap of the process, as counted by a global allocator that

@@ -373,6 +373,11 @@ impl<'d> Builder<'d> {
         let span = self.span(p);
         let text = p.as_str().to_owned();
         let ns = match literal::duration_ns(&text) {
+            Ok(ns) if ns.unsigned_abs() > genom_model::limits::MAX_DURATION_NS => {
+                self.diagnostics
+                    .push(diagnostics::duration_too_long(span, &text));
+                None
+            }
             Ok(ns) => Some(ns),
             Err(e) => {
                 self.diagnostics

@@ -147,6 +147,17 @@ pub fn bad_duration(span: Span, text: &str, error: LiteralError) -> Diagnostic {
     }
 }
 
+/// `invalid-attribute`: a duration longer than genom-check reads.
+pub fn duration_too_long(span: Span, text: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::InvalidAttribute,
+        genom_model::limits::duration_too_long(text),
+        span,
+        "duration out of range",
+    )
+    .with_help("periods, delays and max-times are at most a day: the timed engines' arithmetic must stay exact")
+}
+
 /// `invalid-attribute`: a literal too large to represent.
 pub fn literal_overflow(span: Span, text: &str) -> Diagnostic {
     Diagnostic::new(

@@ -110,7 +110,7 @@ mod with_smt {
         BudgetOptions {
             max_states: args.max_states,
             max_memory: args.max_memory,
-            deadline: args.timeout.map(|t| started + t),
+            deadline: args.timeout.and_then(|t| started.checked_add(t)),
             cap_ns,
             codels,
             scale: !args.no_scale,

@@ -458,6 +458,9 @@ pub struct Expr {
 pub enum ExprKind {
     /// An integer literal.
     Int(i128),
+    /// A numeric literal no IDL type holds (as written): an error when
+    /// evaluated.
+    OutOfRange(String),
     /// A floating-point literal.
     Float(f64),
     /// `TRUE` or `FALSE`.

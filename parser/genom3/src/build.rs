@@ -680,13 +680,16 @@ fn literal(l: &P<'_>, b: &Builder) -> ExprKind {
             } else {
                 digits.parse()
             };
-            ExprKind::Int(v.unwrap_or(0))
+            v.map_or_else(|_| ExprKind::OutOfRange(t.to_owned()), ExprKind::Int)
         }
-        Rule::float_lit => ExprKind::Float(
-            t.trim_end_matches(['f', 'F', 'l', 'L', 'd', 'D'])
+        Rule::float_lit => {
+            let v: Option<f64> = t
+                .trim_end_matches(['f', 'F', 'l', 'L', 'd', 'D'])
                 .parse()
-                .unwrap_or(0.0),
-        ),
+                .ok()
+                .filter(|f: &f64| f.is_finite());
+            v.map_or_else(|| ExprKind::OutOfRange(t.to_owned()), ExprKind::Float)
+        }
         Rule::char_lit => {
             let body = unescape(t.get(1..t.len().saturating_sub(1)).unwrap_or(""));
             ExprKind::Char(body.chars().next().unwrap_or('\0'))

@@ -3,10 +3,14 @@
 //! one of its codel states, or `validate` / `codel` for the control-task
 //! codels of a function or attribute) or a task (STATE a state of its
 //! permanent codels). Durations are exact: `400us`, `1ms`, `2.5ms`, `10ns`,
-//! `1s`. Unknown owners or states are `bad-wcet` errors pointing into the
-//! WCET file.
+//! `1s`, at most one day ([`MAX_DURATION_NS`]). Unknown owners or states,
+//! a duration too long, and a codel given twice are `bad-wcet` errors
+//! pointing into the WCET file. A byte-order mark at its start is skipped.
+
+use std::collections::BTreeMap;
 
 use genom_model::component::{Component, Duration};
+use genom_model::limits::{MAX_DURATION_NS, duration_too_long};
 use genom_model::{Diagnostic, FileId, SourceMap, Span};
 
 use crate::diagnostics;
@@ -75,17 +79,24 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
         return out;
     };
     let mut offset = 0usize;
+    let mut first: BTreeMap<(String, String), Span> = BTreeMap::new();
     for line in f.text.split_inclusive('\n') {
         let start = offset;
         offset += line.len();
         let content = line.split('#').next().unwrap_or("");
+        // The BOM is skipped (offsets stay those of the line).
+        let content = if start == 0 {
+            content.strip_prefix('\u{feff}').unwrap_or(content)
+        } else {
+            content
+        };
         let at = |local: usize, len: usize| {
             let s = f.base + u32::try_from(start + local).unwrap_or(0);
             Span::new(s, s + u32::try_from(len).unwrap_or(0))
         };
         let words: Vec<(usize, &str)> = content
             .split_whitespace()
-            .map(|w| (w.as_ptr() as usize - content.as_ptr() as usize, w))
+            .map(|w| (w.as_ptr() as usize - line.as_ptr() as usize, w))
             .collect();
         match words.as_slice() {
             [] => {}
@@ -106,6 +117,25 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
                     ));
                     continue;
                 };
+                if ns > MAX_DURATION_NS {
+                    let d = diagnostics::bad_wcet(at(*o2, dur.len()), duration_too_long(dur), None);
+                    out.diagnostics.push(d);
+                    continue;
+                }
+                let here = at(*o1, key.len());
+                let key_of = (owner.to_owned(), state.to_owned());
+                if let Some(&before) = first.get(&key_of) {
+                    let d = diagnostics::bad_wcet(
+                        here,
+                        format!("`{key}` is given twice in the WCET file"),
+                        None,
+                    )
+                    .with_label(before, "first given here")
+                    .with_help("keep one line per codel: which one holds is not guessed");
+                    out.diagnostics.push(d);
+                    continue;
+                }
+                first.insert(key_of, here);
                 out.entries.push(WcetEntry {
                     owner: owner.to_owned(),
                     owner_span: at(*o1, owner.len()),
@@ -118,7 +148,8 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
             _ => out.diagnostics.push(diagnostics::bad_wcet(
                 at(
                     words[0].0,
-                    content.trim_end().len().saturating_sub(words[0].0),
+                    (content.as_ptr() as usize - line.as_ptr() as usize + content.trim_end().len())
+                        .saturating_sub(words[0].0),
                 ),
                 "expected `OWNER.STATE DURATION`".to_owned(),
                 None,

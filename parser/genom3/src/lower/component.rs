@@ -48,16 +48,45 @@ pub(crate) struct Ctx<'a> {
     pub(crate) machines: Vec<(String, Span, Vec<FsmCodel>, Option<ThreadId>)>,
 }
 
-/// A time in nanoseconds from a value and a unit (seconds when absent).
-fn to_ns(v: &Value, unit: Option<TimeUnit>) -> Option<u64> {
-    let scale = match unit {
-        None | Some(TimeUnit::S) => 1e9,
-        Some(TimeUnit::Ms) => 1e6,
-        Some(TimeUnit::Us) => 1e3,
+/// A time in nanoseconds from a value and a unit (seconds when absent):
+/// a whole number of nanoseconds, from 0 to a day
+/// ([`genom_model::limits::MAX_DURATION_NS`]); otherwise why not.
+fn to_ns(v: &Value, unit: Option<TimeUnit>) -> Result<u64, String> {
+    let scale: u64 = match unit {
+        None | Some(TimeUnit::S) => 1_000_000_000,
+        Some(TimeUnit::Ms) => 1_000_000,
+        Some(TimeUnit::Us) => 1_000,
     };
-    let ns = as_f64(v)? * scale;
-    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-    (ns.is_finite() && ns >= 0.0).then(|| ns.round() as u64)
+    let max = genom_model::limits::MAX_DURATION_NS;
+    let too_long = || {
+        "the duration is longer than genom-check's limit of one day (86400s): the timed engines' arithmetic must stay exact".to_owned()
+    };
+    match v {
+        Value::Int(i) if *i < 0 => Err("expected a non-negative duration".to_owned()),
+        Value::Int(i) => u64::try_from(*i)
+            .ok()
+            .and_then(|i| i.checked_mul(scale))
+            .filter(|&ns| ns <= max)
+            .ok_or_else(too_long),
+        _ => {
+            let f = as_f64(v).ok_or("expected a number of seconds, ms or us")?;
+            #[allow(clippy::cast_precision_loss)]
+            let ns = f * scale as f64;
+            if !ns.is_finite() || ns < 0.0 {
+                return Err("expected a non-negative duration".to_owned());
+            }
+            #[allow(clippy::cast_precision_loss)]
+            if ns > max as f64 {
+                return Err(too_long());
+            }
+            let whole = ns.round();
+            if (ns - whole).abs() > 1e-6 * whole.max(1.0) {
+                return Err("the duration is not a whole number of nanoseconds".to_owned());
+            }
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            Ok(whole as u64)
+        }
+    }
 }
 
 impl<'a> Ctx<'a> {
@@ -94,12 +123,9 @@ impl<'a> Ctx<'a> {
     ) -> Option<Duration> {
         match self.types.eval(e, scope) {
             Ok(v) => match to_ns(&v, unit) {
-                Some(ns) => Some(Duration { ns, span: e.span }),
-                None => {
-                    self.diags.push(diagnostics::bad_constant(
-                        e.span,
-                        "expected a non-negative duration",
-                    ));
+                Ok(ns) => Some(Duration { ns, span: e.span }),
+                Err(why) => {
+                    self.diags.push(diagnostics::bad_constant(e.span, &why));
                     None
                 }
             },

@@ -6,6 +6,7 @@
 use std::collections::BTreeMap;
 
 use genom_model::component::genom3::Exception;
+use genom_model::component::types::TypeTable;
 use genom_model::component::{Constant, Field, Named, Ty, TypeDef, TypeId, TypeKind, Value};
 use genom_model::kinds::BaseType;
 use genom_model::{Code, Diagnostic, Span};
@@ -72,7 +73,7 @@ impl Types {
             }
             IdlDef::Const(ty, name, value) => {
                 let ty = self.ty(ty, scope);
-                let value = match self.eval(value, scope) {
+                let value = match self.eval(value, scope).and_then(|v| self.fits(&ty, v)) {
                     Ok(v) => Some(v),
                     Err(why) => {
                         self.diagnostics
@@ -200,7 +201,16 @@ impl Types {
     /// A non-negative integer constant, diagnosed when it is not one.
     pub(crate) fn positive(&mut self, e: &Expr, scope: &[String]) -> Option<u64> {
         match self.eval(e, scope) {
-            Ok(Value::Int(v)) if v >= 0 => u64::try_from(v).ok(),
+            Ok(Value::Int(v)) if v >= 0 => {
+                let n = u64::try_from(v).ok();
+                if n.is_none() {
+                    self.diagnostics.push(diagnostics::bad_constant(
+                        e.span,
+                        &format!("{v} is too large for a size"),
+                    ));
+                }
+                n
+            }
             Ok(_) => {
                 self.diagnostics.push(diagnostics::bad_constant(
                     e.span,
@@ -300,6 +310,11 @@ impl Types {
     pub(crate) fn eval(&self, e: &Expr, scope: &[String]) -> Result<Value, String> {
         Ok(match &e.kind {
             ExprKind::Int(v) => Value::Int(*v),
+            ExprKind::OutOfRange(t) => {
+                return Err(format!(
+                    "`{t}` is out of the range of every IDL number type"
+                ));
+            }
             ExprKind::Float(v) => Value::Float(*v),
             ExprKind::Bool(v) => Value::Bool(*v),
             ExprKind::Char(c) => Value::Str(c.to_string()),
@@ -319,7 +334,7 @@ impl Types {
                 }
             }
             ExprKind::Unary(op, inner) => match (op, self.eval(inner, scope)?) {
-                ('-', Value::Int(v)) => Value::Int(-v),
+                ('-', Value::Int(v)) => Value::Int(v.checked_neg().ok_or("`-` overflows")?),
                 ('-', Value::Float(v)) => Value::Float(-v),
                 ('+', v @ (Value::Int(_) | Value::Float(_))) => v,
                 ('~', Value::Int(v)) => Value::Int(!v),
@@ -359,6 +374,52 @@ fn binary(op: &str, a: Value, b: Value) -> Result<Value, String> {
                 "/" => x / y,
                 _ => return Err(format!("`{op}` needs integers")),
             }))
+            .and_then(|v| match v {
+                Value::Float(f) if !f.is_finite() => Err(format!(
+                    "`{op}` gives a number out of the range of `double`"
+                )),
+                v => Ok(v),
+            })
+        }
+    }
+}
+
+impl Types {
+    /// `v` as a value of `ty`, or why it is not one: an integer within its
+    /// type's range, a finite number for `float`/`double` (`float`: within
+    /// `f32`), a boolean, a one-character `char`, a string. Integers widen
+    /// to floating types; other types are not checked here.
+    fn fits(&self, ty: &Ty, v: Value) -> Result<Value, String> {
+        let resolved = self.defs.resolve(ty);
+        let Ty::Base { base } = resolved.clone() else {
+            return match (resolved, &v) {
+                (Ty::String { .. }, Value::Str(_)) => Ok(v),
+                (Ty::String { .. }, _) => Err("expected a string".to_owned()),
+                _ => Ok(v),
+            };
+        };
+        let name = base.idl();
+        match (&v, base.integer_range()) {
+            (Value::Int(i), Some((min, max))) if *i < min || *i > max => Err(format!(
+                "{i} is out of the range of `{name}` ({min} to {max})"
+            )),
+            (Value::Int(_), Some(_)) => Ok(v),
+            (_, Some(_)) => Err(format!("expected an integer for `{name}`")),
+            (Value::Int(_) | Value::Float(_), None) if base.is_float() => {
+                let f = as_f64(&v).unwrap_or(f64::INFINITY);
+                let fits =
+                    f.is_finite() && (base != BaseType::Float || f.abs() <= f64::from(f32::MAX));
+                if fits {
+                    Ok(v)
+                } else {
+                    Err(format!("{f} is out of the range of `{name}`"))
+                }
+            }
+            (_, None) if base.is_float() => Err(format!("expected a number for `{name}`")),
+            (Value::Bool(_), None) if base == BaseType::Boolean => Ok(v),
+            (_, None) if base == BaseType::Boolean => Err("expected TRUE or FALSE".to_owned()),
+            (Value::Str(s), None) if s.chars().count() == 1 => Ok(v),
+            (_, None) => Err(format!("expected one character for `{name}`")),
         }
     }
 }

@@ -1,0 +1,266 @@
+//! Hostile input, round 3 (issue 28, items 1-4, 12, 13): numbers that
+//! overflow or saturate must be errors with a span, never a verdict; a WCET
+//! file that gives a codel twice is an error naming both lines; a
+//! configuration that is there but cannot be read, or is not a regular
+//! file, ends with exit 2; a timeout past what the clock holds is no
+//! deadline, not a panic. Every input is generated here.
+
+#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn genom_check() -> Command {
+    let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
+    cmd.env_remove("GENOM_INCLUDE_PATH").env("NO_COLOR", "1");
+    cmd
+}
+
+/// Runs `args` in `dir`; returns exit status, stdout and stderr.
+fn run_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = genom_check().current_dir(dir).args(args).output().unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A GenoM3 component: task `t` (10 ms) runs activity `reader`.
+const READER: &str = "component w {
+  ids { long a; };
+  task t { period 10 ms; };
+  activity reader() { task t; codel<start> r(in a) yield ether; };
+};
+";
+
+/// The codes of a `--format json` run's one file, with the exit status.
+fn codes(dir: &Path, args: &[&str]) -> (i32, Vec<String>, serde_json::Value) {
+    let mut all = vec!["--format", "json"];
+    all.extend_from_slice(args);
+    let (status, stdout, stderr) = run_in(dir, &all);
+    let doc: serde_json::Value =
+        serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{e}: {stdout}{stderr}"));
+    let file = doc["files"][0].clone();
+    let codes = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["code"].as_str().unwrap().to_owned())
+        .collect();
+    (status, codes, file)
+}
+
+#[test]
+fn a_wcet_past_the_duration_limit_is_an_error_not_a_clean_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    // Odd and even values past 2^62 ns, and the largest u64.
+    for big in [
+        "5000000000000000001ns",
+        "5000000000000000002ns",
+        "18446744073709551615ns",
+        "86401s",
+    ] {
+        write(dir.path(), "w.wcet", &format!("reader.start {big}\n"));
+        let (status, codes, file) = codes(dir.path(), &["--wcet", "w.wcet", "w.gen"]);
+        assert_eq!(status, 1, "{big}: {file:#}");
+        assert_eq!(codes, ["bad-wcet"], "{big}");
+        let message = file["diagnostics"][0]["message"].as_str().unwrap();
+        assert!(message.contains("limit of one day"), "{message}");
+        assert_eq!(file["diagnostics"][0]["file"], "w.wcet");
+    }
+    // A day is allowed, and overruns the 10 ms task.
+    write(dir.path(), "w.wcet", "reader.start 86400s\n");
+    let (status, codes, _) = codes(dir.path(), &["--wcet", "w.wcet", "w.gen"]);
+    assert_eq!(status, 1);
+    assert_eq!(codes, ["codel-overrun"]);
+}
+
+#[test]
+fn a_dialect_duration_past_the_limit_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for entry in std::fs::read_dir("specs").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "idl") {
+            std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
+        }
+    }
+    let pilot = std::fs::read_to_string("specs/pilot.gen").unwrap();
+    assert!(pilot.contains("period: 1s;"));
+    let text = pilot.replacen("period: 1s;", "period: 5000000000000000001ns;", 1);
+    write(dir.path(), "p.gen", &text);
+    let (status, codes, file) = codes(dir.path(), &["p.gen"]);
+    assert_eq!(status, 1);
+    assert_eq!(codes, ["invalid-attribute"], "{file:#}");
+    let d = &file["diagnostics"][0];
+    assert!(d["message"].as_str().unwrap().contains("limit of one day"));
+    let col = text.find("5000000000000000001ns").unwrap();
+    assert_eq!(d["span"]["offset"], col);
+}
+
+#[test]
+fn genom3_numbers_out_of_range_are_errors_with_spans() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("const short s = 70000;", "out of the range of `short`"),
+        ("const octet o = 300;", "out of the range of `octet`"),
+        (
+            "const unsigned long u = -1;",
+            "out of the range of `unsigned long`",
+        ),
+        ("const double d = 1e999;", "`1e999` is out of the range"),
+        (
+            "const long long k = 9223372036854775807 + 1;",
+            "out of the range of `long long`",
+        ),
+        (
+            "const long x = 999999999999999999999999999999999999999999;",
+            "out of the range of every IDL number type",
+        ),
+        ("const string s = 3;", "expected a string"),
+        (
+            "typedef long big[100000000000000000000];",
+            "too large for a size",
+        ),
+    ];
+    for (decl, why) in cases {
+        let text = format!("component c {{\n  {decl}\n  task t {{ period 10 ms; }};\n}};\n");
+        write(dir.path(), "c.gen", &text);
+        let (status, codes, file) = codes(dir.path(), &["c.gen"]);
+        assert_eq!(status, 1, "{decl}: {file:#}");
+        assert_eq!(codes, ["type-mismatch"], "{decl}");
+        let d = &file["diagnostics"][0];
+        assert!(
+            d["message"].as_str().unwrap().contains(why),
+            "{decl}: {d:#}"
+        );
+        assert_eq!(d["line"], 2, "{decl}");
+    }
+    let periods = [
+        ("99999999999999999999999 ms", "limit of one day"),
+        ("1e30 s", "limit of one day"),
+        ("(1 << 70) ms", "limit of one day"),
+        ("0.0000000001 ms", "not a whole number of nanoseconds"),
+    ];
+    for (period, why) in periods {
+        let text = format!("component c {{\n  task t {{ period {period}; }};\n}};\n");
+        write(dir.path(), "c.gen", &text);
+        let (status, codes, file) = codes(dir.path(), &["c.gen"]);
+        assert_eq!(status, 1, "{period}: {file:#}");
+        assert_eq!(codes, ["type-mismatch"], "{period}");
+        let message = file["diagnostics"][0]["message"].as_str().unwrap();
+        assert!(message.contains(why), "{period}: {message}");
+    }
+    // In range: clean.
+    let text = "component c {\n  const short s = -32768;\n  const octet o = 255;\n  task t { period 0.5 ms; };\n};\n";
+    write(dir.path(), "c.gen", text);
+    let (status, codes, _) = codes(dir.path(), &["c.gen"]);
+    assert_eq!((status, codes.len()), (0, 0));
+}
+
+#[test]
+fn a_wcet_file_giving_a_codel_twice_is_an_error_naming_both_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    write(
+        dir.path(),
+        "w.wcet",
+        "reader.start 50ms\nreader.start 1ms\n",
+    );
+    let (status, codes, file) = codes(dir.path(), &["--wcet", "w.wcet", "w.gen"]);
+    assert_eq!(status, 1);
+    assert!(codes.contains(&"bad-wcet".to_owned()), "{file:#}");
+    let d = file["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "bad-wcet")
+        .unwrap();
+    assert_eq!(
+        d["message"],
+        "`reader.start` is given twice in the WCET file"
+    );
+    assert_eq!(d["line"], 2);
+    assert_eq!(d["labels"][1]["line"], 1);
+    assert_eq!(d["labels"][1]["message"], "first given here");
+}
+
+#[test]
+fn a_byte_order_mark_at_the_start_of_a_wcet_file_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    write(dir.path(), "w.wcet", "\u{feff}reader.start 1ms\n");
+    let (status, codes, file) = codes(dir.path(), &["--wcet", "w.wcet", "w.gen"]);
+    assert_eq!((status, codes.len()), (0, 0), "{file:#}");
+    assert_eq!(file["assumptions"][0]["kind"], "wcet");
+}
+
+#[test]
+fn a_configuration_that_is_there_but_cannot_be_read_is_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    // A symlink to nowhere: it is there, reading it fails.
+    std::os::unix::fs::symlink(
+        dir.path().join("gone/x.toml"),
+        dir.path().join("genom-check.toml"),
+    )
+    .unwrap();
+    let (status, _, stderr) = run_in(dir.path(), &["w.gen"]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("cannot read"), "{stderr}");
+    assert!(stderr.contains("genom-check.toml"), "{stderr}");
+}
+
+#[test]
+fn a_configuration_that_is_not_a_regular_file_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    let fifo = dir.path().join("cfg.fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    let mut configs = vec!["/dev/zero".to_owned()];
+    if made {
+        configs.push(fifo.to_string_lossy().into_owned());
+    }
+    for config in configs {
+        let started = std::time::Instant::now();
+        let (status, _, stderr) = run_in(dir.path(), &["--config", &config, "w.gen"]);
+        assert_eq!(status, 2, "{config}: {stderr}");
+        assert!(stderr.contains("not a regular file"), "{stderr}");
+        // Generous: it must not read or wait (a FIFO blocked forever).
+        assert!(started.elapsed().as_secs() < 60, "{config}");
+    }
+    // Larger than a configuration may be.
+    let big = format!("# {}\n", "x".repeat(2 << 20));
+    write(dir.path(), "big.toml", &big);
+    let (status, _, stderr) = run_in(dir.path(), &["--config", "big.toml", "w.gen"]);
+    assert_eq!(status, 2);
+    assert!(stderr.contains("larger than"), "{stderr}");
+}
+
+#[test]
+fn a_timeout_past_the_clock_is_no_deadline_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "w.gen", READER);
+    let (status, _, stderr) = run_in(dir.path(), &["--timeout", "9223372036854775807s", "w.gen"]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    write(
+        dir.path(),
+        "genom-check.toml",
+        "timeout = \"9223372036854775807s\"\n",
+    );
+    let (status, _, stderr) = run_in(dir.path(), &["w.gen"]);
+    assert_ne!(status, 101, "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
