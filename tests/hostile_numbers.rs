@@ -264,3 +264,29 @@ fn a_timeout_past_the_clock_is_no_deadline_not_a_panic() {
     assert_ne!(status, 101, "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Item 10: a label past display column 65 535 (tabs, wide characters,
+/// spaces) rendered a panic; a huge line was echoed whole. Now a window of
+/// the line around the label is shown, with the real line and column.
+#[test]
+fn a_label_far_along_a_huge_line_renders_a_window_of_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("tabs.gen", "\t".repeat(17_000)),
+        ("cjk.gen", "中".repeat(40_000)),
+        ("spaces.gen", " ".repeat(70_000)),
+    ];
+    for (name, lead) in cases {
+        write(
+            dir.path(),
+            name,
+            &format!("component c {{\n{lead}bad;\n}};\n"),
+        );
+        let (status, stdout, stderr) = run_in(dir.path(), &[name]);
+        assert_eq!(status, 1, "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(stdout.contains(&format!("{name}:2:")), "{name}: {stdout}");
+        assert!(stdout.contains('…'), "{name}: the line is cut");
+        assert!(stdout.len() < 4_000, "{name}: {} bytes", stdout.len());
+    }
+}

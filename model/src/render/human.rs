@@ -265,7 +265,12 @@ impl<'a> Report<'a> {
                 related.push(Report::related(sources, d, loc.file, &label.message, loc));
             }
         }
-        let source = primary.and_then(|f| FileSource::new(sources, f));
+        let mut source = primary.and_then(|f| FileSource::new(sources, f));
+        if let (Some(s), Some(first)) = (source.as_mut(), labels.first()) {
+            if let Some(window) = s.cut_long_line(first.offset(), first.len()) {
+                labels = labels.iter().filter_map(|l| window.relabel(l)).collect();
+            }
+        }
         Report {
             diagnostic: d,
             related_message: None,
@@ -380,6 +385,46 @@ impl miette::Diagnostic for Report<'_> {
 struct FileSource<'a> {
     name: String,
     text: Cow<'a, str>,
+    /// When the text is a window cut out of one long line: the lines and
+    /// columns (characters) before it, added to what miette reads.
+    before: Option<(usize, usize)>,
+}
+
+/// Lines longer than this (bytes) are shown as a window around the label:
+/// the renderer cannot draw labels past column 65 535, and a huge line
+/// echoed whole is no help.
+const LONG_LINE: usize = 1_000;
+
+/// Bytes of context each side of a label in a window.
+const WINDOW_CONTEXT: usize = 80;
+
+/// Bytes of a label shown at most in a window.
+const WINDOW_LABEL: usize = 200;
+
+/// The part of a long line a report shows: bytes `start..end` of the file,
+/// behind an ellipsis.
+struct Window {
+    start: usize,
+    end: usize,
+    /// Bytes of the ellipsis in front of the window (0 at the line's start).
+    lead: usize,
+}
+
+impl Window {
+    /// `l` moved into the window, or `None` when it lies outside.
+    fn relabel(&self, l: &LabeledSpan) -> Option<LabeledSpan> {
+        let (at, len) = (l.offset(), l.len());
+        if at < self.start || at > self.end {
+            return None;
+        }
+        let len = len.min(self.end - at);
+        let span = SourceSpan::new((at - self.start + self.lead).into(), len);
+        Some(if l.primary() {
+            LabeledSpan::new_primary_with_span(l.label().map(str::to_owned), span)
+        } else {
+            LabeledSpan::new_with_span(l.label().map(str::to_owned), span)
+        })
+    }
 }
 
 impl<'a> FileSource<'a> {
@@ -388,6 +433,51 @@ impl<'a> FileSource<'a> {
         Some(FileSource {
             name: f.display_path(),
             text: printable(&f.text),
+            before: None,
+        })
+    }
+
+    /// When the line of the label at `at` (`len` bytes) is longer than
+    /// [`LONG_LINE`], keeps only a window of it around the label.
+    fn cut_long_line(&mut self, at: usize, len: usize) -> Option<Window> {
+        let text = self.text.as_ref();
+        let at = at.min(text.len());
+        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+        // miette shows a line of context each side: those count too.
+        let before = text[..line_start.saturating_sub(1)]
+            .rfind('\n')
+            .map_or(0, |i| i + 1);
+        let after = text[line_end..]
+            .get(1..)
+            .and_then(|t| t.find('\n'))
+            .map_or(text.len(), |i| line_end + 1 + i);
+        if line_end - line_start <= LONG_LINE
+            && line_start.saturating_sub(before) <= LONG_LINE
+            && after.saturating_sub(line_end) <= LONG_LINE
+        {
+            return None;
+        }
+        let floor = |mut i: usize| {
+            while !text.is_char_boundary(i) {
+                i -= 1;
+            }
+            i
+        };
+        let start = floor(at.saturating_sub(WINDOW_CONTEXT).max(line_start));
+        let end = floor((at + len.min(WINDOW_LABEL) + WINDOW_CONTEXT).min(line_end));
+        let lines = text[..line_start].matches('\n').count();
+        let columns = text[line_start..start].chars().count();
+        let lead = if start > line_start { "…" } else { "" };
+        let tail = if end < line_end { "…" } else { "" };
+        let shown = format!("{lead}{}{tail}", &text[start..end]);
+        self.text = Cow::Owned(shown);
+        // The ellipsis takes the column before the window.
+        self.before = Some((lines, columns.saturating_sub(usize::from(!lead.is_empty()))));
+        Some(Window {
+            start,
+            end,
+            lead: lead.len(),
         })
     }
 }
@@ -418,12 +508,13 @@ impl SourceCode for FileSource<'_> {
             self.text
                 .as_ref()
                 .read_span(span, context_lines_before, context_lines_after)?;
+        let (lines, columns) = self.before.unwrap_or((0, 0));
         Ok(Box::new(MietteSpanContents::new_named(
             self.name.clone(),
             inner.data(),
             *inner.span(),
-            inner.line(),
-            inner.column(),
+            inner.line() + lines,
+            inner.column() + columns,
             inner.line_count(),
         )))
     }
