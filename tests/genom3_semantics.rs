@@ -7,7 +7,7 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_checker::engine::{Limits, analyse_with};
@@ -15,6 +15,8 @@ use genom_checker::genom3::{G3Analysis, Owner, analyse_genom3};
 use genom_model::component::Component;
 use genom_model::trace::Event;
 use genom_model::{Code, Diagnostic, Severity};
+
+mod common;
 
 const DIR: &str = "tests/fixtures/genom3/semantics";
 
@@ -372,4 +374,53 @@ fn verdicts_do_not_change_with_more_instances() {
             assert_eq!(cycles(&more), cycles(&one), "{name}");
         }
     }
+}
+
+/// The unpaused loops of the corpus (docs/genom3.md, "The corpus under
+/// GenoM3's semantics"): each state that can spin is on a reported loop,
+/// and every trace replays.
+#[test]
+fn the_corpus_unpaused_loops_are_every_loop_and_replay() {
+    let Some(dir) = common::genom3_corpus() else {
+        return;
+    };
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        ..Inputs::default()
+    };
+    let mut found: Vec<(&str, Vec<String>)> = Vec::new();
+    for file in [
+        "arucotag-genom3/arucotag.gen",
+        "foxglove-genom3/foxglove.gen",
+        "nhfc-genom3/nhfc.gen",
+        "rotorcraft-genom3/rotorcraft.gen",
+        "WAMCtrl-genom3/wamctrl.gen",
+    ] {
+        let r = check_path(&dir.join(file), &inputs, &CheckOptions::new()).unwrap();
+        assert_traces_replay(&r);
+        let name = file.split('/').next_back().unwrap();
+        for d in &r.diagnostics {
+            assert_ne!(d.code, Code::Livelock, "{name}: {}", d.message);
+            if d.code == Code::UnpausedLoop {
+                found.push((
+                    name,
+                    round(d).iter().map(|(c, _)| (*c).to_owned()).collect(),
+                ));
+            }
+        }
+    }
+    let expected: Vec<(&str, Vec<String>)> = [
+        ("arucotag.gen", &["poll", "main", "log"][..]),
+        ("arucotag.gen", &["poll", "main"]),
+        ("arucotag.gen", &["poll"]),
+        ("foxglove.gen", &["ready"]),
+        ("foxglove.gen", &["publish"]),
+        ("nhfc.gen", &["control", "emergency"]),
+        ("rotorcraft.gen", &["recv"]),
+        ("wamctrl.gen", &["control", "emergency"]),
+    ]
+    .into_iter()
+    .map(|(f, r)| (f, r.iter().map(|s| (*s).to_owned()).collect()))
+    .collect();
+    assert_eq!(found, expected);
 }

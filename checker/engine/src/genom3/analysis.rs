@@ -17,15 +17,18 @@ use super::steps::{Engine, G3Action};
 use crate::engine::explore::{Limits, Model, Stop, explore};
 use crate::engine::store::StateId;
 
-/// A cycle of unpaused transitions of one state machine.
+/// A cycle of unpaused transitions of one state machine, through no
+/// `async` codel.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Cycle {
     /// Whose machine.
     pub owner: Owner,
     /// Its states, in the order a run goes round (first: the entry).
     pub states: Vec<u8>,
-    /// Whether some codel of it may yield out of it (`ether`, `pause::`, or
-    /// a state outside).
+    /// Whether the task may leave the spinning states around it: some
+    /// codel of its strongly connected part (of the unpaused graph without
+    /// async states) may yield `ether`, `pause::`, or a state outside that
+    /// part (an async one included).
     pub has_exit: bool,
 }
 
