@@ -18,12 +18,11 @@ use genom_model::{Code, Diagnostic};
 pub const EXPLANATION_LIVELOCK: &str = r#"A GenoM3 state machine can enter a cycle of transitions that have no
 `pause::` and that no yield leaves. GenoM3 runs a transition without
 `pause::` at once, in the same wake-up of the task (it sweeps again
-without waiting), so once inside, the task never waits again:
-- in a periodic task, it never waits for its next tick: its paused
-  activities never resume and no new request for it starts;
-- in a task without a period, it busy-spins between events and never
-  handles the next one;
-in any task the loop eats the CPU.
+without waiting), so once inside, the task never waits again. In a
+periodic task it never waits for its next tick: its paused activities
+never resume and no new request for it starts. In a task without a
+period it busy-spins between events and never handles the next one. In
+any task the loop eats the CPU.
 
 The trace reaches the cycle, then goes round it once (the repeating part).
 An `async` codel blocks on its external event, so a cycle through one is
