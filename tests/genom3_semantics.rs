@@ -7,7 +7,7 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_checker::engine::{Limits, analyse_with};
@@ -15,6 +15,8 @@ use genom_checker::genom3::{G3Analysis, Owner, analyse_genom3};
 use genom_model::component::Component;
 use genom_model::trace::Event;
 use genom_model::{Code, Diagnostic, Severity};
+
+mod common;
 
 const DIR: &str = "tests/fixtures/genom3/semantics";
 
@@ -153,7 +155,8 @@ fn point_6_a_stop_path_reaching_ether_is_a_success() {
 fn point_8_a_cycle_through_an_async_codel_is_no_livelock() {
     let r = check("f8_async.gen");
     assert_eq!(findings(&r), []);
-    // The same component without `async`: a livelock of task `io`.
+    // The same component without `async`: task `io` livelocks, in two
+    // loops that together go through `poll` and `got`.
     let text = std::fs::read_to_string(Path::new(DIR).join("f8_async.gen"))
         .unwrap()
         .replace("async codel", "codel");
@@ -161,8 +164,114 @@ fn point_8_a_cycle_through_an_async_codel_is_no_livelock() {
     let path = dir.path().join("f8_sync.gen");
     std::fs::write(&path, text).unwrap();
     let r = check_path(&path, &Inputs::default(), &CheckOptions::new()).unwrap();
-    assert_eq!(findings(&r), [(Code::Livelock, "io".to_owned())]);
+    assert_eq!(
+        findings(&r),
+        [
+            (Code::Livelock, "io".to_owned()),
+            (Code::Livelock, "io".to_owned())
+        ]
+    );
     assert_traces_replay(&r);
+    let rounds: Vec<_> = with_code(&r, Code::Livelock)
+        .into_iter()
+        .map(round)
+        .collect();
+    assert_eq!(
+        rounds,
+        [
+            vec![("poll", "got"), ("got", "poll")],
+            vec![("poll", "poll")]
+        ]
+    );
+}
+
+/// The `(codel, outcome)` steps of the round a lasso repeats.
+fn round(d: &Diagnostic) -> Vec<(&str, &str)> {
+    let t = d.trace.as_ref().expect("a trace");
+    let start = t.loop_start.expect("a lasso");
+    t.steps[start..t.steps.len() - 1]
+        .iter()
+        .map(|s| {
+            let codel = s.codel.as_deref().unwrap_or_default();
+            (codel, s.outcome.as_deref().unwrap_or_default())
+        })
+        .collect()
+}
+
+/// The diagnostics of `r` with `code`, in report order.
+fn with_code(r: &CheckResult, code: Code) -> Vec<&Diagnostic> {
+    r.diagnostics.iter().filter(|d| d.code == code).collect()
+}
+
+#[test]
+fn point_8_an_async_codel_exempts_only_the_cycles_through_it() {
+    let r = check("f8b_async_drain.gen");
+    assert_eq!(findings(&r), [(Code::UnpausedLoop, "drain".to_owned())]);
+    assert_traces_replay(&r);
+    let d = with_code(&r, Code::UnpausedLoop)[0];
+    assert_eq!(
+        d.message,
+        "activity `drain` may loop through `recv` → `recv` without `pause::`: task `io` has no period, so it busy-spins until the loop ends"
+    );
+    assert_eq!(round(d), [("recv", "recv")]);
+    let t = d.trace.as_ref().unwrap();
+    assert!(
+        t.steps[t.steps.len() - 1]
+            .text
+            .ends_with("task `io`, which has no period, busy-spins between events"),
+        "{t:#?}"
+    );
+    // The twin: `recv` waits (`pause::recv`) or goes through the async `wait`.
+    let r = check("f8c_async_drain_paused.gen");
+    assert_eq!(findings(&r), []);
+    assert!(analysis(component(&r), 1).livelocks.is_empty());
+}
+
+#[test]
+fn point_1_every_state_that_can_spin_is_on_a_reported_loop() {
+    let r = check("f1d_every_loop.gen");
+    assert_eq!(
+        findings(&r),
+        [
+            (Code::UnpausedLoop, "walk".to_owned()),
+            (Code::UnpausedLoop, "walk".to_owned())
+        ]
+    );
+    assert_traces_replay(&r);
+    let loops = with_code(&r, Code::UnpausedLoop);
+    let messages: Vec<&str> = loops.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(
+        messages,
+        [
+            "activity `walk` may loop through `a` → `b` → `a` without `pause::`",
+            "activity `walk` may loop through `b` → `c` → `b` without `pause::`"
+        ]
+    );
+    assert_eq!(round(loops[0]), [("a", "b"), ("b", "a")]);
+    assert_eq!(round(loops[1]), [("b", "c"), ("c", "b")]);
+    assert_eq!(findings(&check("f1e_every_loop_paused.gen")), []);
+}
+
+#[test]
+fn point_2_a_loop_on_an_aperiodic_task_is_a_busy_spin() {
+    let r = check("f2b_busy_aperiodic.gen");
+    assert_eq!(findings(&r), [(Code::Livelock, "poller".to_owned())]);
+    assert_traces_replay(&r);
+    let d = with_code(&r, Code::Livelock)[0];
+    assert_eq!(
+        d.message,
+        "the permanent codels of task `poller` loop through `check` → `check` forever without `pause::`: task `poller` has no period and busy-spins"
+    );
+    let help = d.help.as_deref().unwrap();
+    assert!(
+        help.contains("`async`")
+            && help.contains("give task `poller` a `period`")
+            && help.contains("can stall the task"),
+        "{help}"
+    );
+    assert_eq!(round(d), [("check", "check")]);
+    // The twin: `check` blocks on its event (`async`).
+    assert_eq!(findings(&check("f2c_busy_aperiodic_async.gen")), []);
 }
 
 #[test]
@@ -265,4 +374,53 @@ fn verdicts_do_not_change_with_more_instances() {
             assert_eq!(cycles(&more), cycles(&one), "{name}");
         }
     }
+}
+
+/// The unpaused loops of the corpus (docs/genom3.md, "The corpus under
+/// GenoM3's semantics"): each state that can spin is on a reported loop,
+/// and every trace replays.
+#[test]
+fn the_corpus_unpaused_loops_are_every_loop_and_replay() {
+    let Some(dir) = common::genom3_corpus() else {
+        return;
+    };
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        ..Inputs::default()
+    };
+    let mut found: Vec<(&str, Vec<String>)> = Vec::new();
+    for file in [
+        "arucotag-genom3/arucotag.gen",
+        "foxglove-genom3/foxglove.gen",
+        "nhfc-genom3/nhfc.gen",
+        "rotorcraft-genom3/rotorcraft.gen",
+        "WAMCtrl-genom3/wamctrl.gen",
+    ] {
+        let r = check_path(&dir.join(file), &inputs, &CheckOptions::new()).unwrap();
+        assert_traces_replay(&r);
+        let name = file.split('/').next_back().unwrap();
+        for d in &r.diagnostics {
+            assert_ne!(d.code, Code::Livelock, "{name}: {}", d.message);
+            if d.code == Code::UnpausedLoop {
+                found.push((
+                    name,
+                    round(d).iter().map(|(c, _)| (*c).to_owned()).collect(),
+                ));
+            }
+        }
+    }
+    let expected: Vec<(&str, Vec<String>)> = [
+        ("arucotag.gen", &["poll", "main", "log"][..]),
+        ("arucotag.gen", &["poll", "main"]),
+        ("arucotag.gen", &["poll"]),
+        ("foxglove.gen", &["ready"]),
+        ("foxglove.gen", &["publish"]),
+        ("nhfc.gen", &["control", "emergency"]),
+        ("rotorcraft.gen", &["recv"]),
+        ("wamctrl.gen", &["control", "emergency"]),
+    ]
+    .into_iter()
+    .map(|(f, r)| (f, r.iter().map(|s| (*s).to_owned()).collect()))
+    .collect();
+    assert_eq!(found, expected);
 }

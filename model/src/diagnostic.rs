@@ -170,9 +170,9 @@ codes! {
     /// A GenoM3 `provides`/`uses` naming no interface.
     UnknownInterface = "unknown-interface", Error, "a GenoM3 `provides` or `uses` names no known interface";
     /// A GenoM3 cycle of unpaused transitions that nothing leaves.
-    Livelock = "livelock", Error, "a reachable cycle of GenoM3 codel transitions without `pause::` that no yield leaves: the task sweeps it forever";
+    Livelock = "livelock", Error, "a reachable cycle of GenoM3 codel transitions without `pause::` or `async` that no yield leaves: the task sweeps it forever";
     /// A GenoM3 cycle of unpaused transitions with a way out.
-    UnpausedLoop = "unpaused-loop", Warning, "a reachable cycle of GenoM3 codel transitions without `pause::`: the task may sweep it many times in one period";
+    UnpausedLoop = "unpaused-loop", Warning, "a reachable cycle of GenoM3 codel transitions without `pause::` or `async`: the task may sweep it many times in one period, or busy-spin between events without a period";
     /// A malformed or unresolved line of a WCET side file.
     BadWcet = "bad-wcet", Error, "a WCET side-file line that is malformed or names an unknown owner or state";
 }

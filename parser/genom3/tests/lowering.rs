@@ -161,3 +161,44 @@ fn unknown_codel_parameters_suggest_a_name() {
         .unwrap();
     assert_eq!(d.help.as_deref(), Some("did you mean `speed`?"));
 }
+
+#[test]
+fn an_empty_initializer_keeps_every_member_default() {
+    let text = "struct point { double x; double y; };\n\
+        component k {\n\
+          ids { point p; };\n\
+          task t { period 10 ms; };\n\
+          attribute set_p(in p = {} : \"where\");\n\
+          activity go(in point to = {}, in long n = 3) { task t; codel<start> k_go(in to) yield ether; };\n\
+        };\n";
+    let out = load(text);
+    assert!(out.diagnostics.is_empty(), "{:?}", out.diagnostics);
+    let c = out.component.unwrap();
+    let set_p = &c.services[c.service_named("set_p").unwrap()];
+    assert_eq!(set_p.inputs.len(), 1);
+    assert_eq!(set_p.inputs[0].default, None);
+    assert_eq!(set_p.inputs[0].doc.as_deref(), Some("where"));
+    let go = &c.services[c.service_named("go").unwrap()];
+    let defaults: Vec<_> = go
+        .inputs
+        .iter()
+        .map(|p| (p.name.name.as_str(), p.default.clone()))
+        .collect();
+    assert_eq!(defaults, [("to", None), ("n", Some(Value::Int(3)))]);
+}
+
+#[test]
+fn a_comma_without_values_in_braces_is_a_syntax_error_at_the_comma() {
+    let text = "component k { ids { long n; }; attribute set_n(in n = {,}); };\n";
+    let out = load(text);
+    let syntax: Vec<_> = out
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::Syntax)
+        .collect();
+    assert_eq!(syntax.len(), 1, "{:?}", out.diagnostics);
+    assert_eq!(syntax[0].message, "expected `}` or a value, found `,`");
+    let comma = u32::try_from(text.find("{,}").unwrap() + 1).unwrap();
+    let span = syntax[0].labels[0].span;
+    assert_eq!((span.start, span.end), (comma, comma + 1));
+}

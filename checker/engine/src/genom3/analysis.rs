@@ -1,7 +1,7 @@
 //! Explores a GenoM3 component under GenoM3's semantics and reads the
 //! verdicts off the reachable states: which services are ever accepted,
-//! which codels ever run, and which unpaused cycles (livelocks within a
-//! period) are entered, each with its trace.
+//! which codels ever run, and which unpaused cycles (a task spinning
+//! without `pause::` or `async`) are entered, each with its trace.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -17,15 +17,18 @@ use super::steps::{Engine, G3Action};
 use crate::engine::explore::{Limits, Model, Stop, explore};
 use crate::engine::store::StateId;
 
-/// A cycle of unpaused transitions of one state machine.
+/// A cycle of unpaused transitions of one state machine, through no
+/// `async` codel.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Cycle {
     /// Whose machine.
     pub owner: Owner,
     /// Its states, in the order a run goes round (first: the entry).
     pub states: Vec<u8>,
-    /// Whether some codel of it may yield out of it (`ether`, `pause::`, or
-    /// a state outside).
+    /// Whether the task may leave the spinning states around it: some
+    /// codel of its strongly connected part (of the unpaused graph without
+    /// async states) may yield `ether`, `pause::`, or a state outside that
+    /// part (an async one included).
     pub has_exit: bool,
 }
 
@@ -120,7 +123,7 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
         for (k, (id, owner, state)) in entered {
             let mut path = if perms { Vec::new() } else { boot.clone() };
             path.extend(exploration.store.path(id));
-            let cycle = rotate(&whole.m, &cycles[k], state);
+            let cycle = rotate(&cycles[k], state);
             out.livelocks.push(Livelock {
                 trace: lasso(&whole, &path, owner, &cycle),
                 cycle,
@@ -183,7 +186,12 @@ fn running(s: &G3State) -> impl Iterator<Item = (Owner, Inst)> + '_ {
 
 /// The cycles of unpaused transitions of every state machine that go
 /// through no `async` codel (an async codel blocks: the task does not
-/// spin), one per strongly connected component.
+/// spin, so it exempts the cycles through it and no other). The states
+/// that spin are those of the strongly connected parts of the unpaused
+/// graph without its async states; each such part is covered by rounds
+/// ([`cover`]), one [`Cycle`] each. A round has a way out when some codel
+/// of its part may yield `ether`, `pause::`, or a state outside the part
+/// (an async one included): the task may then leave the spinning states.
 pub fn unpaused_cycles(m: &Machine<'_>) -> Vec<Cycle> {
     let owners = (0..m.activities.len())
         .map(Owner::Activity)
@@ -191,43 +199,66 @@ pub fn unpaused_cycles(m: &Machine<'_>) -> Vec<Cycle> {
     let mut out = Vec::new();
     for owner in owners {
         let fsm = m.fsm(owner);
+        let spins = |s: &u8| !fsm.states[usize::from(*s)].is_async;
         let mut g: DiGraphMap<u8, (), std::hash::RandomState> = DiGraphMap::new();
-        for s in 0..fsm.states.len() {
-            let s = s as u8;
+        for s in (0..fsm.states.len()).map(|s| s as u8).filter(spins) {
             g.add_node(s);
-            for t in fsm.unpaused(s) {
+            for t in fsm.unpaused(s).filter(spins) {
                 g.add_edge(s, t, ());
             }
         }
-        for mut scc in tarjan_scc(&g) {
+        let mut sccs = tarjan_scc(&g);
+        for scc in &mut sccs {
+            scc.sort_unstable();
+        }
+        sccs.sort_unstable();
+        for scc in sccs {
             let cyclic = scc.len() > 1 || g.contains_edge(scc[0], scc[0]);
-            if !cyclic || scc.iter().any(|&s| fsm.states[usize::from(s)].is_async) {
+            if !cyclic {
                 continue;
             }
-            scc.sort_unstable();
             let has_exit = scc.iter().any(|&s| {
                 fsm.states[usize::from(s)].yields.iter().any(|t| match *t {
                     Target::State { state, pause } => pause || !scc.contains(&state),
                     Target::Ether => true,
                 })
             });
-            out.push(Cycle {
+            out.extend(cover(fsm, &scc).into_iter().map(|states| Cycle {
                 owner,
-                states: scc,
+                states,
                 has_exit,
-            });
+            }));
         }
     }
     out
 }
 
-/// The cycle as a round from `entry` back to it (shortest, within the
-/// strongly connected component).
-fn rotate(m: &Machine<'_>, cycle: &Cycle, entry: u8) -> Cycle {
-    let fsm = m.fsm(cycle.owner);
-    let round = round_from(fsm, &cycle.states, entry);
+/// Rounds that together go through every state of `scc` (a strongly
+/// connected set of spinning states, sorted): for each state in turn that
+/// no round so far goes through, the shortest round through it. A round
+/// whose states are all covered already is never added.
+fn cover(fsm: &Fsm, scc: &[u8]) -> Vec<Vec<u8>> {
+    let mut covered: BTreeSet<u8> = BTreeSet::new();
+    let mut out = Vec::new();
+    for &s in scc {
+        if covered.contains(&s) {
+            continue;
+        }
+        let round = round_from(fsm, scc, s);
+        covered.extend(round.iter().copied());
+        out.push(round);
+    }
+    out
+}
+
+/// The cycle as the same round, begun at `entry` (one of its states).
+fn rotate(cycle: &Cycle, entry: u8) -> Cycle {
+    let mut states = cycle.states.clone();
+    if let Some(k) = states.iter().position(|&s| s == entry) {
+        states.rotate_left(k);
+    }
     Cycle {
-        states: round,
+        states,
         ..cycle.clone()
     }
 }
@@ -243,7 +274,8 @@ fn round_from(fsm: &Fsm, scc: &[u8], entry: u8) -> Vec<u8> {
                 let mut path = vec![s];
                 let mut cur = s;
                 while cur != entry {
-                    cur = parent[&cur];
+                    let Some(&p) = parent.get(&cur) else { break };
+                    cur = p;
                     path.push(cur);
                 }
                 path.reverse();
@@ -264,14 +296,32 @@ fn lasso(engine: &Engine<'_>, path: &[G3Action], owner: Owner, cycle: &Cycle) ->
     let mut trace = super::trace::render(engine, path);
     let fsm = engine.m.fsm(owner);
     let loop_start = trace.steps.len();
-    let task = &engine.m.tasks[engine.m.task_of(owner)].name;
+    let task = &engine.m.tasks[engine.m.task_of(owner)];
+    let (again, never) = if task.period_ns.is_some() {
+        (
+            "the task sweeps again at once".to_owned(),
+            format!("task `{}` never waits for its next wake-up", task.name),
+        )
+    } else {
+        (
+            format!(
+                "task `{}` has no period and runs it at once, without waiting for an event",
+                task.name
+            ),
+            format!(
+                "task `{}`, which has no period, busy-spins between events",
+                task.name
+            ),
+        )
+    };
+    let task = &task.name;
     for (k, &s) in cycle.states.iter().enumerate() {
         let next = cycle.states[(k + 1) % cycle.states.len()];
         let state = &fsm.states[usize::from(s)];
         let to = &fsm.states[usize::from(next)].name;
         let mut step = super::trace::codel_step(engine, owner, s, to);
         step.text = format!(
-            "task `{task}` runs codel `{}` of {} in state `{}`, which yields `{to}` without `pause::`: the task sweeps again at once",
+            "task `{task}` runs codel `{}` of {} in state `{}`, which yields `{to}` without `pause::`: {again}",
             state.function,
             describe(engine, owner),
             state.name
@@ -281,7 +331,7 @@ fn lasso(engine: &Engine<'_>, path: &[G3Action], owner: Owner, cycle: &Cycle) ->
     let mut v = TraceStep::new(
         Event::Violation,
         format!(
-            "{} can go round states {} forever without `pause::`: task `{task}` never waits for its next wake-up",
+            "{} can go round states {} forever without `pause::`: {never}",
             describe(engine, owner),
             names(fsm, &cycle.states)
         ),

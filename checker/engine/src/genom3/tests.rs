@@ -1,5 +1,6 @@
 //! Tests of the GenoM3 engine's rules on small components: interrupters
-//! waiting for stop paths, the `kill` shutdown, the boot order.
+//! waiting for stop paths, the `kill` shutdown, the boot order, and the
+//! words of a trace whose codel ends with an exception.
 
 use genom_model::component::{Component, Idx};
 
@@ -99,4 +100,69 @@ fn kill_drains_then_runs_the_permanent_stop_paths_last_task_first() {
     actions.clear();
     e.actions(&s, &mut actions);
     assert!(actions.is_empty());
+}
+
+/// The path that takes, from the initial state, the first enabled action
+/// matching each of `picks` in turn.
+fn path(e: &Engine<'_>, picks: &[&dyn Fn(&G3Action) -> bool]) -> Vec<G3Action> {
+    let mut s = e.initial();
+    let mut out = Vec::new();
+    for pick in picks {
+        let mut actions = Vec::new();
+        e.actions(&s, &mut actions);
+        let a = *actions.iter().find(|a| pick(a)).expect("enabled");
+        s = e.next_state(&s, a).expect("a change");
+        out.push(a);
+    }
+    out
+}
+
+#[test]
+fn a_codel_exception_names_the_exceptions_it_stands_for() {
+    let c = load(
+        "component x {
+          exception e_refused;
+          exception e_busy;
+          exception e_hw;
+          task t { period 10 ms; throw e_hw; codel<start> x_boot() yield pause::start; };
+          activity go() { task t; throw e_refused, e_busy; codel<start> x_go() yield ether; };
+          activity bare() { task t; codel<start> x_bare() yield ether; };
+        };",
+    );
+    let e = Engine::new(Machine::new(&c, 1).unwrap());
+    let texts = |p: &[G3Action]| -> Vec<String> {
+        let t = super::trace::render(&e, p);
+        crate::replay::genom3::replay_genom3(&c, &t).unwrap_or_else(|err| panic!("{err}\n{t:#?}"));
+        t.steps.iter().map(|s| s.text.clone()).collect()
+    };
+    let exception_of = |name: &str| {
+        let x = activity(&e, name) as u16;
+        // One past the start codel's one yield (`ether`): the exception.
+        move |a: &G3Action| matches!(*a, G3Action::Start(y, _, 1) if y == x)
+    };
+    let accept = |name: &str| {
+        let x = activity(&e, name) as u16;
+        move |a: &G3Action| *a == G3Action::Accept(x)
+    };
+    let boot = |a: &G3Action| *a == G3Action::Perm(0, 0);
+    let go = texts(&path(&e, &[&boot, &accept("go"), &exception_of("go")]));
+    assert_eq!(
+        go.last().unwrap(),
+        "activity `go` runs codel `x_go` in state `start`, which yields an exception (`x::e_busy`, `x::e_refused` or a built-in `genom::…` one): the instance ends with it"
+    );
+    let bare = texts(&path(&e, &[&boot, &accept("bare"), &exception_of("bare")]));
+    assert!(
+        bare.last().unwrap().ends_with(
+            "which yields an exception (a built-in `genom::…` one, since no `throw` is declared): the instance ends with it"
+        ),
+        "{bare:?}"
+    );
+    // The permanent codel names its task's `throw`; it fails the start.
+    let perm = texts(&path(&e, &[&|a: &G3Action| *a == G3Action::Perm(0, 1)]));
+    assert!(
+        perm.last().unwrap().contains(
+            "which yields an exception (`x::e_hw` or a built-in `genom::…` one): the instance ends with it; the component fails to start"
+        ),
+        "{perm:?}"
+    );
 }

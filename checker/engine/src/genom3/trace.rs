@@ -12,7 +12,7 @@
 //! | `accept` (thread `control`) | the activity, function or attribute | | `pending` when it waits for instances it interrupted |
 //! | `interrupt` (thread `control`) | the instance's activity | its state, or none if not started | `abort_activity` |
 //! | `start` | the activity | the start state | |
-//! | `codel-end` | the activity (none for a permanent codel) | the state | the yield: `s`, `pause::s`, `ether`, or `exception` |
+//! | `codel-end` | the activity (none for a permanent codel) | the state | the yield: `s`, `pause::s`, `ether`, or `exception` (any exception the codel may throw; the text names them) |
 //! | `violation` | | | |
 
 use genom_model::trace::{Event, Trace, TraceStep};
@@ -185,16 +185,19 @@ pub(crate) fn codel_text(
     let mut s = codel_step(engine, owner, state, &to);
     let who = super::analysis::describe(engine, owner);
     let st = &fsm.states[usize::from(state)];
-    let tail = match fsm.states[usize::from(state)].yields.get(usize::from(o)) {
+    let yields = match fsm.states[usize::from(state)].yields.get(usize::from(o)) {
         Some(Target::State { pause: true, .. }) => {
-            " (it waits for its task's next wake-up)".to_owned()
+            format!("yields `{to}` (it waits for its task's next wake-up)")
         }
-        Some(Target::State { .. }) => " (run in the same sweep loop)".to_owned(),
-        Some(Target::Ether) => ": the instance ends, success".to_owned(),
-        None => ": the instance ends with that exception".to_owned(),
+        Some(Target::State { .. }) => format!("yields `{to}` (run in the same sweep loop)"),
+        Some(Target::Ether) => format!("yields `{to}`: the instance ends, success"),
+        None => format!(
+            "yields an exception ({}): the instance ends with it",
+            exceptions(engine, owner)
+        ),
     };
     s.text = format!(
-        "{who} runs codel `{}` in state `{}`, which yields `{to}`{tail}",
+        "{who} runs codel `{}` in state `{}`, which {yields}",
         st.function, st.name
     );
     if before.phase != after.phase {
@@ -206,6 +209,41 @@ pub(crate) fn codel_text(
         });
     }
     s
+}
+
+/// The exceptions the `exception` outcome of `owner`'s codels stands
+/// for: those its service (or task) declares with `throw`, or a built-in
+/// `genom::` one (the engine does not tell them apart).
+pub fn exceptions(engine: &Engine<'_>, owner: Owner) -> String {
+    let c = engine.m.c;
+    let declared: Vec<&str> = match owner {
+        Owner::Activity(a) => c.services[engine.m.activities[a].service]
+            .reports
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect(),
+        Owner::Task(t) => c
+            .genom3
+            .as_ref()
+            .and_then(|g| {
+                g.tasks
+                    .iter()
+                    .find(|x| x.thread == engine.m.tasks[t].thread)
+            })
+            .map(|x| x.throws.iter().map(|r| r.name.as_str()).collect())
+            .unwrap_or_default(),
+    };
+    let mut names: Vec<String> = declared
+        .iter()
+        .map(|n| format!("`{}`", n.trim_start_matches("::")))
+        .collect();
+    names.sort();
+    names.dedup();
+    match names.as_slice() {
+        [] => "a built-in `genom::…` one, since no `throw` is declared".to_owned(),
+        [one] => format!("{one} or a built-in `genom::…` one"),
+        [init @ .., last] => format!("{}, {last} or a built-in `genom::…` one", init.join(", ")),
+    }
 }
 
 /// The name of outcome `o` of `state`'s codel.
