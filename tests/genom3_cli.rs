@@ -592,7 +592,12 @@ fn timed_verdicts_state_their_assumptions_in_every_format() {
 /// `explain` of the codes both languages share speaks GenoM3's words too.
 #[test]
 fn explain_of_shared_codes_speaks_genom3() {
-    for code in ["thread-overrun", "codel-overrun", "incomplete", "missing-wcet"] {
+    for code in [
+        "thread-overrun",
+        "codel-overrun",
+        "incomplete",
+        "missing-wcet",
+    ] {
         let out = genom_check().args(["explain", code]).output().unwrap();
         assert!(out.status.success(), "{code}");
         let text = String::from_utf8_lossy(&out.stdout);
