@@ -61,8 +61,10 @@ pub fn failure() -> Option<&'static str> {
     FAILED.get().map(String::as_str)
 }
 
-/// A name from outside (a file path) as it may be shown on stderr: its
-/// control characters escaped.
+/// A path from outside (an output, an input read) as it may be shown on
+/// stderr: `/`-separated, its control characters escaped. (`-` stays `-`:
+/// for `-o` it is a file name, not standard input.)
 pub fn shown(path: &std::path::Path) -> String {
-    genom_model::render::escaped(&genom_check::display(path)).into_owned()
+    let path = genom_model::span::display_path(path);
+    genom_model::render::escaped(&path).into_owned()
 }
