@@ -10,6 +10,7 @@ mod cli;
 mod commands;
 mod config;
 mod lsp;
+mod output;
 mod suppress;
 mod terminal;
 
@@ -24,7 +25,16 @@ static ALLOCATOR: allocator::Bounded = allocator::Bounded;
 /// overflow the stack.
 const STACK_BYTES: usize = 256 * 1024 * 1024;
 
+/// Set when a write went past the file size limit (`ulimit -f`).
+#[cfg(unix)]
+static FILE_TOO_LARGE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 fn main() -> ExitCode {
+    // Past the file size limit, the write fails (`File too large`, reported
+    // as any write error) instead of SIGXFSZ killing the process and
+    // leaving a partial export or temporary file behind.
+    #[cfg(unix)]
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, &FILE_TOO_LARGE);
     let cli = cli::Cli::parse();
     if let Some(bytes) = cli.max_memory() {
         allocator::limit(bytes);

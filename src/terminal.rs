@@ -1,6 +1,9 @@
-//! Terminal facts: whether to colour output and how wide to draw it.
+//! Terminal facts: whether to colour output and how wide to draw it, and
+//! the one way the commands write to standard output ([`emit`]), which
+//! remembers a failed write so that the run ends with exit status 2.
 
 use std::io::IsTerminal as _;
+use std::sync::OnceLock;
 
 use crate::cli::Color;
 
@@ -32,10 +35,36 @@ pub fn width() -> usize {
         .unwrap_or(DEFAULT_WIDTH)
 }
 
-/// Writes to stdout. A closed pipe (`genom-check ... | head`) is not an
-/// error worth a panic: the rest of the output is dropped silently.
+/// Why writing to stdout failed, once it has (a closed pipe aside).
+static FAILED: OnceLock<String> = OnceLock::new();
+
+/// Writes to stdout. A closed pipe (`genom-check ... | head`) ends the
+/// output quietly, as Unix tools do: the rest is dropped and the exit
+/// status is the command's. Any other failure (a full disk, `> /dev/full`,
+/// the file size limit) is remembered for [`failure`], and nothing more is
+/// written.
 pub fn emit(text: &str) {
     use std::io::Write as _;
+    if FAILED.get().is_some() {
+        return;
+    }
     let mut out = std::io::stdout().lock();
-    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
+    if let Err(e) = out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            let _ = FAILED.set(e.to_string());
+        }
+    }
+}
+
+/// Why writing to stdout failed, if it did (other than a closed pipe).
+pub fn failure() -> Option<&'static str> {
+    FAILED.get().map(String::as_str)
+}
+
+/// A path from outside (an output, an input read) as it may be shown on
+/// stderr: `/`-separated, its control characters escaped. (`-` stays `-`:
+/// for `-o` it is a file name, not standard input.)
+pub fn shown(path: &std::path::Path) -> String {
+    let path = genom_model::span::display_path(path);
+    genom_model::render::escaped(&path).into_owned()
 }

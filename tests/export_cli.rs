@@ -1,7 +1,9 @@
 //! `genom-check export`: refusal of unverified components (exit 1 with the
 //! diagnostics, nothing written), `--allow-unverified`, `-o` with companion
-//! files, usage errors (exit 2), determinism, and the JSON report of a
-//! refused export (docs/exports.md).
+//! files, usage errors (exit 2), determinism, the JSON report of a
+//! refused export, and where `-o` may write: never over an input of the
+//! run, never two outputs at one path, all or nothing, a device directly
+//! (docs/exports.md, "Where the files go").
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
@@ -454,4 +456,254 @@ fn unverified_exports_are_marked() {
             "{format}: a verified export is marked"
         );
     }
+}
+
+// ---- Where `-o` writes (issue 28, items 5, 6, 7, 9): never over an input,
+// never two outputs at one path, all or nothing, devices written directly.
+
+/// A small timed component that includes `m.q` (a name a UPPAAL companion
+/// takes), generated into `dir` as `c.gen`.
+fn component_with_include(dir: &Path) {
+    std::fs::write(dir.join("m.q"), "struct T { long a; };\n").expect("write m.q");
+    std::fs::write(
+        dir.join("c.gen"),
+        "include \"m.q\";\n\
+         component servo { category: default; lang: C; }\n\
+         ids joints { double q := 0.0 \"rad\"; }\n\
+         thread t { priority: 50; period: 10ms; }\n\
+         service Servo {\n  thread: t;\n\
+         \x20 start codel { exec: init(joints.q); max-time: 1ms; next: step; }\n\
+         \x20 exec codel step { exec: step(joints.q); max-time: 8ms; next: step, end; }\n}\n",
+    )
+    .expect("write c.gen");
+}
+
+/// Every entry of `dir` by name: a symbolic link as its target, a file as
+/// its bytes (never reading a link, which may point at a device).
+fn listing(dir: &Path) -> Vec<(String, String, Vec<u8>)> {
+    let mut out: Vec<_> = std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| {
+            let path = e.expect("entry").path();
+            let name = path
+                .file_name()
+                .expect("name")
+                .to_string_lossy()
+                .into_owned();
+            match std::fs::read_link(&path) {
+                Ok(target) => (name, target.to_string_lossy().into_owned(), Vec::new()),
+                Err(_) => (name, String::new(), std::fs::read(&path).expect("readable")),
+            }
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// Runs `genom-check ARGS` in `dir`.
+fn run_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = genom_check()
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().expect("exit status"),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn an_export_never_writes_over_an_input_of_the_run() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    component_with_include(d);
+    std::os::unix::fs::symlink("c.gen", d.join("link.gen")).expect("symlink");
+    std::fs::hard_link(d.join("c.gen"), d.join("hard.gen")).expect("hard link");
+    let absolute = d.join("c.gen");
+    let absolute = absolute.to_str().expect("UTF-8");
+    let before = listing(d);
+    let model = "the export";
+    let checked = "the checked file `c.gen`";
+    // (format, -o, what is refused at which path, which input it is)
+    let cases = [
+        ("uppaal", "c.gen", model, "c.gen", checked),
+        ("uppaal", "./c.gen", model, "./c.gen", checked),
+        ("uppaal", absolute, model, absolute, checked),
+        ("uppaal", "link.gen", model, "link.gen", checked),
+        ("uppaal", "hard.gen", model, "hard.gen", checked),
+        // The companion of `m.xml` is the included `m.q`.
+        (
+            "uppaal",
+            "m.xml",
+            "the `.q` companion",
+            "m.q",
+            "an included file `m.q`",
+        ),
+        // (For UPPAAL, `-o m.q` is two outputs at one path: see below.)
+        ("tchecker", "m.q", model, "m.q", "an included file `m.q`"),
+    ];
+    for (format, output, what, at, input) in cases {
+        let (code, stdout, stderr) = run_in(d, &["export", format, "c.gen", "-o", output]);
+        assert_eq!(code, 2, "-o {output}: {stderr}");
+        assert_eq!(stdout, "", "-o {output}");
+        assert_eq!(
+            stderr,
+            format!(
+                "error: refusing to write {what} to `{at}`: it is {input}, an input of this run \
+                 (choose another -o path)\n"
+            ),
+            "-o {output}"
+        );
+        assert_eq!(listing(d), before, "-o {output} changed the folder");
+    }
+    // The component exports, next to its inputs.
+    let (code, _, stderr) = run_in(d, &["export", "uppaal", "c.gen", "-o", "out.xml"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.starts_with("wrote `out.xml` and `out.q`\n"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn an_export_never_writes_over_its_wcet_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    let generated = genom_check()
+        .current_dir(d)
+        .args([
+            "generate",
+            "--dialect",
+            "genom3",
+            "--timed",
+            "--services",
+            "1",
+        ])
+        .args(["--codels", "1", "--wcet-out", "w.wcet"])
+        .output()
+        .expect("runs");
+    assert!(generated.status.success());
+    std::fs::write(d.join("g.gen"), &generated.stdout).expect("write g.gen");
+    let before = listing(d);
+    let (code, _, stderr) = run_in(
+        d,
+        &[
+            "export", "uppaal", "g.gen", "--wcet", "w.wcet", "-o", "w.wcet",
+        ],
+    );
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("refusing to write the export to `w.wcet`: it is the WCET file `w.wcet`"),
+        "{stderr}"
+    );
+    assert_eq!(listing(d), before);
+}
+
+#[test]
+fn the_model_and_its_query_file_never_go_to_one_path() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    component_with_include(d);
+    std::fs::remove_file(d.join("m.q")).expect("rm");
+    let text = std::fs::read_to_string(d.join("c.gen")).expect("read");
+    std::fs::write(d.join("c.gen"), text.replace("include \"m.q\";\n", "")).expect("write");
+    let before = listing(d);
+    let (code, stdout, stderr) = run_in(d, &["export", "uppaal", "c.gen", "-o", "model.q"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(stdout, "");
+    assert_eq!(
+        stderr,
+        "error: refusing to write: the export and the `.q` companion would both go to `model.q` \
+         (give -o a path whose extension is not `.q`)\n"
+    );
+    assert_eq!(listing(d), before, "nothing written");
+}
+
+/// `sh -c 'ulimit -f BLOCKS; exec genom-check ARGS'` in `dir`.
+fn run_with_file_size_limit(dir: &Path, blocks: u32, args: &[&str]) -> (i32, String) {
+    let bin = assert_cmd::cargo::cargo_bin("genom-check");
+    let out = std::process::Command::new("sh")
+        .current_dir(dir)
+        .arg("-c")
+        .arg(format!("ulimit -f {blocks} && exec \"$0\" \"$@\""))
+        .arg(bin)
+        .args(args)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("sh runs");
+    (
+        out.status.code().expect("exit status, not a signal"),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_write_past_the_file_size_limit_leaves_the_previous_export_whole() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    component_with_include(d);
+    std::fs::write(d.join("out.xml"), "previous model\n").expect("write");
+    std::fs::write(d.join("out.q"), "previous queries\n").expect("write");
+    let before = listing(d);
+    // 4 blocks (2 or 4 KiB): the model (about 15 KB) does not fit.
+    let (code, stderr) =
+        run_with_file_size_limit(d, 4, &["export", "uppaal", "c.gen", "-o", "out.xml"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("error: cannot write `out.xml`: File too large"),
+        "{stderr}"
+    );
+    // Both targets as they were, and no temporary file left behind.
+    assert_eq!(listing(d), before);
+}
+
+#[test]
+fn a_failed_companion_leaves_the_model_as_it_was() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    component_with_include(d);
+    std::fs::write(d.join("out.xml"), "previous model\n").expect("write");
+    // The query file's path is a link to a device that is always full: the
+    // model is written (to its temporary file) first, and must not land.
+    std::os::unix::fs::symlink("/dev/full", d.join("out.q")).expect("symlink");
+    let before = listing(d);
+    let (code, stdout, stderr) = run_in(d, &["export", "uppaal", "c.gen", "-o", "out.xml"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(stdout, "");
+    assert!(
+        stderr.contains("error: cannot write `out.q`: No space left on device"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("wrote"), "{stderr}");
+    assert_eq!(listing(d), before);
+}
+
+#[test]
+fn an_output_that_is_not_a_regular_file_is_written_directly_without_companion() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    component_with_include(d);
+    // A link to /dev/null in the folder: its companion would be `dev.q`
+    // beside it (for `-o /dev/null`, `/dev/null.q`).
+    std::os::unix::fs::symlink("/dev/null", d.join("dev.xml")).expect("symlink");
+    let before = listing(d);
+    for output in ["dev.xml", "/dev/null"] {
+        let (code, stdout, stderr) = run_in(d, &["export", "uppaal", "c.gen", "-o", output]);
+        assert_eq!(code, 0, "{stderr}");
+        assert_eq!(stdout, "");
+        assert!(
+            stderr.starts_with(&format!(
+                "note: `{output}` is not a regular file: its `.q` companion file is not written next to it\nwrote `{output}`\n"
+            )),
+            "{stderr}"
+        );
+        assert_eq!(listing(d), before, "-o {output}: the folder changed");
+    }
+    let null = std::fs::metadata("/dev/null").expect("/dev/null");
+    assert!(!null.is_file(), "/dev/null was replaced");
 }

@@ -1,7 +1,9 @@
 //! Hostile input: paths that are not regular files (devices, FIFOs) given
 //! on the command line or included, in both dialects. Each must end at
 //! once with a clear message and exit 2 (the file itself) or 1 (an include),
-//! never block or grow without bound.
+//! never block or grow without bound. A standard output that cannot be
+//! written is exit 2 (a closed pipe ends quietly), and no file name forges
+//! a CI annotation or writes escape sequences to the terminal.
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
 
@@ -293,4 +295,181 @@ fn the_time_limit_stops_a_genom3_file_while_parsing() {
     // Without the limit the same file is clean: the stop came from it.
     let (status, stdout, _) = run(&["--dialect", "genom3", "--static-only", &path]);
     assert_eq!(status, 0, "{stdout}");
+}
+
+// ---- Standard output that cannot be written (issue 28, item 8).
+
+/// A clean component and a folder holding it.
+fn clean_component() -> (tempfile::TempDir, String) {
+    file("c.gen", b"component c { category: default; lang: C; }\n")
+}
+
+/// Runs `genom-check ARGS` with stdout into `stdout`; returns exit status
+/// and stderr.
+fn run_into(stdout: std::fs::File, args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("genom-check"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .stdout(stdout)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_full_standard_output_is_an_error_with_exit_2() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let (_dir, c) = clean_component();
+    let runs: [&[&str]; 6] = [
+        &["check", &c],
+        &["check", "--format", "json", &c],
+        &["check", "--format", "sarif", &c],
+        &["export", "config", &c],
+        &["explain", "syntax"],
+        &["generate"],
+    ];
+    for args in runs {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let (status, stderr) = run_into(full, args);
+        assert_eq!(status, 2, "{args:?}: {stderr}");
+        assert!(
+            stderr.ends_with(
+                "error: cannot write to standard output: No space left on device (os error 28)\n"
+            ),
+            "{args:?}: {stderr}"
+        );
+        // Said once, and nothing claims the export was written.
+        assert_eq!(stderr.matches("error:").count(), 1, "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn standard_output_past_the_file_size_limit_is_an_error_not_a_signal() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new("sh")
+        .current_dir(dir.path())
+        .arg("-c")
+        .arg("ulimit -f 4 && exec \"$0\" generate --services 300 > out.gen")
+        .arg(assert_cmd::cargo::cargo_bin("genom-check"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("error: cannot write to standard output: File too large"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    // Far more than a pipe holds, read by nobody.
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("genom-check"))
+        .args(["generate", "--services", "1000"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+}
+
+// ---- Names that would forge output (issue 28, item 20).
+
+/// A file name that holds a GitHub workflow command on a line of its own.
+const FORGED: &str = "a\n::error file=evil.gen,line=1::x\n.gen";
+
+/// A component with one syntax error (an annotation) under `name`.
+fn broken_under(name: &str) -> (tempfile::TempDir, String) {
+    file(name, b"component c { lang: C; }\nids { x }\n")
+}
+
+/// Runs `genom-check ARGS` in `dir`; returns exit status and stdout.
+fn run_in(dir: &Path, args: &[&str]) -> (i32, String) {
+    let out = genom_check().current_dir(dir).args(args).output().unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn a_file_name_cannot_forge_a_github_annotation() {
+    let (dir, _) = broken_under(FORGED);
+    let (status, stdout) = run_in(dir.path(), &["--format", "github", FORGED]);
+    assert_eq!(status, 1, "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    // The real annotation, the file's summary, the total: nothing more.
+    assert_eq!(lines.len(), 3, "{stdout}");
+    let commands: Vec<&&str> = lines
+        .iter()
+        .filter(|l| l.trim_start().starts_with("::") || l.contains("##["))
+        .collect();
+    assert_eq!(commands.len(), 1, "{stdout}");
+    assert!(
+        commands[0].starts_with(
+            "::error file=a%0A%3A%3Aerror file=evil.gen%2Cline=1%3A%3Ax%0A.gen,line=2,"
+        ),
+        "{stdout}"
+    );
+    assert_eq!(
+        lines[1],
+        "a\\n::error file=evil.gen,line=1::x\\n.gen: 1 error, 0 warnings, 0 advice"
+    );
+    // A name that starts a line with `::` or holds the older `##[` syntax.
+    for name in ["::warning file=w.gen::x.gen", "w##[error]x.gen"] {
+        let (dir, _) = broken_under(name);
+        let (_, stdout) = run_in(dir.path(), &["--format", "github", name]);
+        assert_eq!(stdout.lines().count(), 3, "{stdout}");
+        let forged = stdout
+            .lines()
+            .skip(1)
+            .filter(|l| l.trim_start().starts_with("::") || l.contains("##["))
+            .count();
+        assert_eq!(forged, 0, "{stdout}");
+    }
+}
+
+#[test]
+fn escape_sequences_in_names_never_reach_the_terminal() {
+    let name = "b\u{1b}[31mred\u{1b}]0;title\u{7}.gen";
+    let (_dir, path) = broken_under(name);
+    let shown = "b\\u{1b}[31mred\\u{1b}]0;title\\u{7}.gen";
+    let (status, stdout, stderr) = run(&[&path]);
+    assert_eq!(status, 1, "{stderr}");
+    assert!(
+        !stdout.contains('\u{1b}') && !stdout.contains('\u{7}'),
+        "{stdout:?}"
+    );
+    assert!(stdout.contains(&format!("{shown}:2:")), "{stdout}");
+    assert!(stdout.contains(&format!("{shown}: 1 error")), "{stdout}");
+    // A file that cannot be read is named on stderr, escaped too.
+    let missing = format!("{path}.missing");
+    let (status, _, stderr) = run(&[&missing]);
+    assert_eq!(status, 2);
+    assert!(!stderr.contains('\u{1b}'), "{stderr:?}");
+    assert!(stderr.contains(&format!("{shown}.missing")), "{stderr}");
+    // JSON keeps the name (escaped by JSON itself), SARIF a URI.
+    let (_, stdout, _) = run(&["--format", "json", &path]);
+    assert!(!stdout.contains('\u{1b}'), "{stdout:?}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["files"][0]["path"], path.as_str());
+    let (_, stdout, _) = run(&["--format", "sarif", &path]);
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let uri = doc["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]
+        ["uri"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    assert!(uri.ends_with("/b%1B%5B31mred%1B%5D0;title%07.gen"), "{uri}");
 }

@@ -2,7 +2,7 @@
 //! (human or JSON), then returns the exit status.
 
 use genom_check::{CheckOptions, CheckResult, display};
-use genom_model::render::{FileReport, github, human, json, sarif};
+use genom_model::render::{FileReport, escaped, github, human, json, sarif};
 use genom_model::{Counts, Dialect, Severity};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -43,7 +43,7 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
                 results.push((display(path), result));
             }
             Err(e) => {
-                eprintln!("error: {e}");
+                eprintln!("error: {}", escaped(&e.to_string()));
                 unread.push(json::JsonUnread {
                     path: display(path),
                     error: e.to_string(),
@@ -247,14 +247,16 @@ pub(super) fn summary_line(report: &FileReport<'_>) -> String {
 }
 
 /// `assuming A; B` when the verdicts rest on something the component
-/// does not say (a WCET file, an instance bound).
+/// does not say (a WCET file, an instance bound), control characters
+/// escaped.
 pub(super) fn assumptions(report: &FileReport<'_>) -> Option<String> {
     let all = &report.statistics?.assumptions;
     if all.is_empty() {
         return None;
     }
     let texts: Vec<&str> = all.iter().map(|a| a.text.as_str()).collect();
-    Some(format!("assuming {}", texts.join("; ")))
+    // The WCET file's name comes from outside.
+    Some(format!("assuming {}", escaped(&texts.join("; "))))
 }
 
 /// `, symbolic` when the symbolic engine decided some part (the explicit

@@ -2,16 +2,19 @@
 //! writes the model in the chosen format. A component with errors, or whose
 //! verification is incomplete, is refused (exit 1, with the diagnostics)
 //! unless `--allow-unverified`, which marks the export as unverified.
+//! With `-o`, the files are written as [`crate::output`] says: never over
+//! an input of the run, all or nothing.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{FileReport, github, human, json, sarif};
+use genom_model::render::{FileReport, escaped, github, human, json, sarif};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
+use crate::output::{Input, Plan};
 use crate::terminal;
 
 /// Runs the export.
@@ -25,7 +28,7 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
     let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", escaped(&e.to_string()));
             return EXIT_USAGE;
         }
     };
@@ -47,15 +50,17 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
         verification: &verification,
     };
     match genom_export::export(format(args.target), &input) {
-        Ok(exported) => {
-            let status = write(args, &exported);
-            if status == EXIT_OK && !output.quiet {
-                // An unverified export had its whole report on stderr.
-                let summary = verification.verified.then(|| result.report(&shown));
-                report_written(args, &exported, summary.as_ref());
+        Ok(exported) => match write(args, &exported, &result) {
+            Ok(written) => {
+                if !output.quiet {
+                    // An unverified export had its whole report on stderr.
+                    let summary = verification.verified.then(|| result.report(&shown));
+                    report_written(&written, summary.as_ref());
+                }
+                EXIT_OK
             }
-            status
-        }
+            Err(status) => status,
+        },
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS
@@ -91,13 +96,14 @@ fn refuse(
     let color = terminal::use_color(output.color);
     if result.component.is_none() {
         terminal::emit(&report_text(shown, result, output, color));
-        eprintln!("error: `{shown}` has no component to export");
+        eprintln!("error: `{}` has no component to export", escaped(shown));
         return Some(EXIT_ERRORS);
     }
     if !args.allow_unverified {
         terminal::emit(&report_text(shown, result, output, color));
         eprintln!(
-            "error: refusing to export `{shown}`: {} (use --allow-unverified to export it marked unverified)",
+            "error: refusing to export `{}`: {} (use --allow-unverified to export it marked unverified)",
+            escaped(shown),
             reasons(verification, denied)
         );
         return Some(EXIT_ERRORS);
@@ -107,12 +113,14 @@ fn refuse(
     eprint!("{}", report_text(shown, result, output, color));
     if verification.verified {
         eprintln!(
-            "warning: exporting `{shown}` despite {}",
+            "warning: exporting `{}` despite {}",
+            escaped(shown),
             reasons(verification, denied)
         );
     } else {
         eprintln!(
-            "warning: exporting `{shown}` unverified: {}; the export is marked `verified: false`",
+            "warning: exporting `{}` unverified: {}; the export is marked `verified: false`",
+            escaped(shown),
             reasons(verification, denied)
         );
     }
@@ -219,49 +227,93 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
     out
 }
 
-/// Writes the main output (stdout without `-o`) and companion files.
-fn write(args: &ExportArgs, exported: &genom_export::Exported) -> u8 {
+/// Writes the main output (stdout without `-o`) and companion files;
+/// returns the files written, or the exit status of a failure (2, said on
+/// stderr; a failed write to stdout is said once the command ends).
+fn write(
+    args: &ExportArgs,
+    exported: &genom_export::Exported,
+    result: &CheckResult,
+) -> Result<Vec<PathBuf>, u8> {
     let Some(path) = &args.output else {
         terminal::emit(&exported.main);
+        if terminal::failure().is_some() {
+            return Err(EXIT_USAGE);
+        }
         for (suffix, _) in &exported.extra {
             eprintln!("note: the `{suffix}` companion file is written only with -o");
         }
-        return EXIT_OK;
+        return Ok(Vec::new());
     };
-    if let Err(e) = std::fs::write(path, &exported.main) {
-        eprintln!("error: cannot write `{}`: {e}", path.display());
-        return EXIT_USAGE;
-    }
-    for (suffix, text) in &exported.extra {
-        let companion = companion(path, suffix);
-        if let Err(e) = std::fs::write(&companion, text) {
-            eprintln!("error: cannot write `{}`: {e}", companion.display());
-            return EXIT_USAGE;
+    let plan = Plan::new(path, &exported.main, &exported.extra)
+        .and_then(|plan| plan.refuse_inputs(&inputs(args, result)).map(|()| plan));
+    let plan = match plan {
+        Ok(plan) => plan,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Err(EXIT_USAGE);
         }
+    };
+    for suffix in plan.skipped() {
+        eprintln!(
+            "note: `{}` is not a regular file: its `{suffix}` companion file is not written next to it",
+            terminal::shown(path)
+        );
     }
-    EXIT_OK
+    let written: Vec<PathBuf> = plan.paths().map(PathBuf::from).collect();
+    if let Err(e) = plan.write() {
+        eprintln!("error: {e}");
+        return Err(EXIT_USAGE);
+    }
+    Ok(written)
+}
+
+/// Every file the run read: the checked file, its includes (the source
+/// map lists them; `<built-in>` and `<stdin>` are no files), the WCET file.
+fn inputs<'a>(args: &'a ExportArgs, result: &'a CheckResult) -> Vec<Input<'a>> {
+    let mut all = Vec::new();
+    if !genom_check::is_stdin(&args.file) {
+        all.push(Input {
+            path: &args.file,
+            role: "the checked file",
+        });
+    }
+    // Before the source map, which lists it too (its diagnostics point
+    // into it).
+    if let Some(wcet) = &args.input.wcet {
+        all.push(Input {
+            path: wcet,
+            role: "the WCET file",
+        });
+    }
+    for (i, (_, file)) in result.sources.files().enumerate() {
+        if file.path.as_os_str().to_string_lossy().starts_with('<') {
+            continue;
+        }
+        let role = if i == 0 {
+            "the checked file"
+        } else {
+            "an included file"
+        };
+        all.push(Input {
+            path: &file.path,
+            role,
+        });
+    }
+    all
 }
 
 /// Says on stderr (stdout may carry the export) what was written and the
 /// verdict it rests on, as `check` prints it.
-fn report_written(
-    args: &ExportArgs,
-    exported: &genom_export::Exported,
-    report: Option<&FileReport<'_>>,
-) {
-    if let Some(path) = &args.output {
-        let mut files = vec![format!("`{}`", path.display())];
-        for (suffix, _) in &exported.extra {
-            files.push(format!("`{}`", companion(path, suffix).display()));
-        }
+fn report_written(written: &[PathBuf], report: Option<&FileReport<'_>>) {
+    if !written.is_empty() {
+        let files: Vec<String> = written
+            .iter()
+            .map(|p| format!("`{}`", terminal::shown(p)))
+            .collect();
         eprintln!("wrote {}", files.join(" and "));
     }
     if let Some(report) = report {
         eprintln!("{}", super::check::summary_line(report));
     }
-}
-
-/// `model.xml` + `.q` → `model.q`.
-fn companion(path: &Path, suffix: &str) -> PathBuf {
-    path.with_extension(suffix.trim_start_matches('.'))
 }

@@ -16,8 +16,20 @@ pub const EXIT_ERRORS: u8 = 1;
 /// Usage or I/O problem.
 pub const EXIT_USAGE: u8 = 2;
 
-/// Runs the command line.
+/// Runs the command line. A failed write to stdout (other than a closed
+/// pipe) is an I/O problem: reported, and the status is 2.
 pub fn run(cli: Cli) -> u8 {
+    let status = command(cli);
+    match crate::terminal::failure() {
+        Some(e) => {
+            eprintln!("error: cannot write to standard output: {e}");
+            EXIT_USAGE
+        }
+        None => status,
+    }
+}
+
+fn command(cli: Cli) -> u8 {
     match cli.command {
         Some(Command::Check(args)) => check::run(&args, &cli.output),
         Some(Command::Explain(args)) => explain::run(&args),

@@ -7,11 +7,15 @@
 //! label's, in the file it points into (an included file too). A file's
 //! summary line follows its annotations, and the grand total ends the
 //! output.
+//!
+//! Nothing from outside can forge a command: file names and messages are
+//! encoded inside annotations, and a summary line (which names the file and
+//! may name the WCET file) is kept a plain log line, see [`plain`].
 
 use std::fmt::Write as _;
 
-use super::FileReport;
 use super::json::{location, region};
+use super::{FileReport, escaped, escaped_keeping_lines};
 use crate::diagnostic::{Counts, Diagnostic, Severity};
 use crate::span::SourceMap;
 
@@ -26,7 +30,7 @@ pub fn render(reports: &[FileReport<'_>], summaries: Option<&[String]>) -> Strin
             out.push('\n');
         }
         if let Some(line) = summaries.and_then(|s| s.get(i)) {
-            out.push_str(line);
+            out.push_str(&plain(line));
             out.push('\n');
         }
         total.merge(report.counts());
@@ -56,7 +60,11 @@ pub fn annotation(sources: &SourceMap, d: &Diagnostic) -> String {
         let _ = write!(props, ",endLine={line},endColumn={column}");
     }
     let _ = write!(props, ",title={}", property(d.code.as_str()));
-    format!("::{command} {props}::{}", data(&message(sources, d)))
+    let text = message(sources, d);
+    format!(
+        "::{command} {props}::{}",
+        data(&escaped_keeping_lines(&text))
+    )
 }
 
 /// The text of the annotation: the message, the help, the trace's steps.
@@ -74,6 +82,21 @@ fn message(sources: &SourceMap, d: &Diagnostic) -> String {
         }
     }
     text
+}
+
+/// A line that is not a workflow command and cannot become one, whatever
+/// names it holds: control characters escaped as the human format shows
+/// them (so no line end splits it), and the two ways the runner recognises
+/// a command defused: `::` at the start (after spaces) and `##[` anywhere
+/// (the older syntax) get their `:` or `[` encoded (`%3A`, `%5B`).
+pub fn plain(line: &str) -> String {
+    let line = escaped(line).replace("##[", "##%5B");
+    let body = line.trim_start();
+    if body.starts_with("::") {
+        let indent = &line[..line.len() - body.len()];
+        return format!("{indent}%3A{}", &body[1..]);
+    }
+    line
 }
 
 /// Encodes a command's data (the message) as the runner decodes it.
@@ -145,5 +168,24 @@ mod tests {
         assert!(lines[1].starts_with("::notice "), "{out}");
         assert_eq!(lines[2], "a.gen: 1 error, 0 warnings, 1 advice");
         assert_eq!(lines[3], "Found 1 error, 0 warnings, 1 advice in 1 file.");
+    }
+
+    #[test]
+    fn a_summary_line_cannot_become_a_workflow_command() {
+        assert_eq!(plain("a.gen: 0 errors"), "a.gen: 0 errors");
+        let forged = "a\n::error file=evil.gen,line=1::x\n.gen: 0 errors";
+        assert_eq!(
+            plain(forged),
+            "a\\n::error file=evil.gen,line=1::x\\n.gen: 0 errors"
+        );
+        assert_eq!(
+            plain("  ::error file=e.gen::x.gen: 0 errors"),
+            "  %3A:error file=e.gen::x.gen: 0 errors"
+        );
+        assert_eq!(
+            plain("w##[error]x.gen: 1 error"),
+            "w##%5Berror]x.gen: 1 error"
+        );
+        assert_eq!(plain("\r::warning::x"), "\\r::warning::x");
     }
 }

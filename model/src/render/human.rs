@@ -1,5 +1,7 @@
 //! Human output: miette graphical reports with source snippets, labels and
 //! help, a numbered trace for behavioural verdicts, and a one-line summary.
+//! File names, messages and labels never reach the terminal raw: their
+//! control characters are shown escaped (`\u{1b}`), see [`escaped`].
 
 use std::borrow::Cow;
 use std::fmt::{self, Write as _};
@@ -9,7 +11,7 @@ use miette::{
     SourceCode, SourceSpan, SpanContents,
 };
 
-use super::FileReport;
+use super::{FileReport, escaped, escaped_keeping_lines};
 use crate::diagnostic::{Counts, Diagnostic, Severity};
 use crate::span::{FileId, SourceMap, Span};
 use crate::trace::{Event, Trace};
@@ -63,9 +65,10 @@ pub fn render_diagnostic(sources: &SourceMap, d: &Diagnostic, options: HumanOpti
     out
 }
 
-/// The one-line summary: `pilot.gen: 0 errors, 0 warnings, 1 advice`.
+/// The one-line summary: `pilot.gen: 0 errors, 0 warnings, 1 advice` (the
+/// name's control characters escaped).
 pub fn render_summary(path: &str, counts: Counts) -> String {
-    format!("{path}: {}", counts_text(counts))
+    format!("{}: {}", escaped(path), counts_text(counts))
 }
 
 /// `1 error, 2 warnings, 0 advice`.
@@ -111,7 +114,8 @@ pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
             .map(|t| format!("[{}] ", format_instant(t)))
             .unwrap_or_default();
         let place = step.span.map(|s| location(sources, s)).unwrap_or_default();
-        let _ = writeln!(out, "  {:>4}. {time}{}{place}", i + 1, step.text);
+        let text = escaped(&step.text);
+        let _ = writeln!(out, "  {:>4}. {time}{text}{place}", i + 1);
     }
     if trace.steps.iter().any(|s| s.time_ns.is_some()) {
         out.push_str(&render_timeline(trace));
@@ -212,7 +216,7 @@ fn location(sources: &SourceMap, span: Span) -> String {
         return String::new();
     };
     let (line, _) = file.line_col(loc.offset);
-    format!("  ({}:{line})", file.display_path())
+    format!("  ({}:{line})", escaped(&file.display_path()))
 }
 
 /// Formats nanoseconds with the largest unit that divides them exactly.
@@ -303,7 +307,7 @@ impl<'a> Report<'a> {
 }
 
 fn labeled(message: &str, offset: u32, length: u32, primary: bool) -> LabeledSpan {
-    let text = (!message.is_empty()).then(|| message.to_owned());
+    let text = (!message.is_empty()).then(|| escaped_keeping_lines(message).into_owned());
     let span = SourceSpan::new((offset as usize).into(), length as usize);
     if primary {
         LabeledSpan::new_primary_with_span(text, span)
@@ -322,11 +326,11 @@ impl fmt::Debug for Report<'_> {
 
 impl fmt::Display for Report<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(
-            self.related_message
-                .as_deref()
-                .unwrap_or(&self.diagnostic.message),
-        )
+        let message = self
+            .related_message
+            .as_deref()
+            .unwrap_or(&self.diagnostic.message);
+        f.write_str(&escaped_keeping_lines(message))
     }
 }
 
@@ -358,7 +362,7 @@ impl miette::Diagnostic for Report<'_> {
         self.diagnostic
             .help
             .as_deref()
-            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+            .map(|h| Box::new(escaped_keeping_lines(h)) as Box<dyn fmt::Display>)
     }
 
     fn source_code(&self) -> Option<&dyn SourceCode> {
@@ -379,7 +383,8 @@ impl miette::Diagnostic for Report<'_> {
     }
 }
 
-/// One file's text, named, as a miette source; ASCII control characters
+/// One file's text, named (control characters in the name escaped), as a
+/// miette source; ASCII control characters
 /// other than tabs and line ends are shown as `?` (same byte length, so
 /// spans stay exact) rather than written raw to the terminal.
 struct FileSource<'a> {
@@ -431,7 +436,7 @@ impl<'a> FileSource<'a> {
     fn new(sources: &'a SourceMap, file: FileId) -> Option<Self> {
         let f = sources.file(file)?;
         Some(FileSource {
-            name: f.display_path(),
+            name: escaped(&f.display_path()).into_owned(),
             text: printable(&f.text),
             before: None,
         })
@@ -594,5 +599,31 @@ mod tests {
         assert!(text.contains("a.gen:1:1"), "{text}");
         assert!(text.contains("b.idl:1:8"), "{text}");
         assert!(text.contains("first defined here"), "{text}");
+    }
+
+    #[test]
+    fn control_characters_in_names_and_messages_are_shown_escaped() {
+        let name = "a\n::error file=evil.gen,line=1::x\u{1b}[2J.gen";
+        let summary = render_summary(name, Counts::default());
+        assert_eq!(
+            summary,
+            "a\\n::error file=evil.gen,line=1::x\\u{1b}[2J.gen: 0 errors, 0 warnings, 0 advice"
+        );
+        let mut map = SourceMap::new();
+        map.add(name, "component x {\n  lang C;\n}\n".into());
+        let d = Diagnostic::new(
+            Code::Syntax,
+            "bad \u{1b}[31m",
+            Span::new(21, 22),
+            "here\u{7}",
+        )
+        .with_help("see \u{1b}]8;;x");
+        let text = render_diagnostic(&map, &d, HumanOptions::default());
+        assert!(
+            !text.contains('\u{1b}') && !text.contains('\u{7}'),
+            "{text:?}"
+        );
+        assert!(text.contains("x\\u{1b}[2J.gen:2:"), "{text}");
+        assert!(text.contains("bad \\u{1b}[31m"), "{text}");
     }
 }

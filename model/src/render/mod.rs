@@ -10,6 +10,8 @@ pub mod human;
 pub mod json;
 pub mod sarif;
 
+use std::borrow::Cow;
+
 use crate::diagnostic::{Counts, Diagnostic};
 use crate::dialect::{Dialect, Pragma};
 use crate::response::ResponseTime;
@@ -40,5 +42,68 @@ impl FileReport<'_> {
     /// Counts of this file's diagnostics by severity.
     pub fn counts(&self) -> Counts {
         Counts::of(self.diagnostics)
+    }
+}
+
+/// `text` as it may be written to a terminal or a log on one line: control
+/// characters (C0, DEL, C1) and the bidirectional-text controls, which
+/// would move the cursor, change colours, start a line or reorder what
+/// follows, are shown as Rust escapes (`\n`, `\u{1b}`, `\u{202e}`), as
+/// [`quote`](crate::diagnostic::quote) shows them in messages. For names
+/// (files) that come from outside.
+pub fn escaped(text: &str) -> Cow<'_, str> {
+    escape(text, false)
+}
+
+/// [`escaped`], keeping line ends and tabs: for messages, help and trace
+/// text, which may span lines.
+pub fn escaped_keeping_lines(text: &str) -> Cow<'_, str> {
+    escape(text, true)
+}
+
+fn escape(text: &str, keep_lines: bool) -> Cow<'_, str> {
+    let hidden = |c: char| {
+        (c.is_control() && !(keep_lines && matches!(c, '\n' | '\t'))) || is_bidi_control(c)
+    };
+    if !text.contains(hidden) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if is_bidi_control(c) {
+            out.extend(c.escape_unicode());
+        } else if hidden(c) {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// The Unicode controls that reorder bidirectional text (marks, embeddings,
+/// overrides, isolates).
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_escaped_on_one_line_and_messages_keep_their_lines() {
+        assert_eq!(escaped("pilot.gen"), "pilot.gen");
+        assert!(matches!(escaped("pilot.gen"), Cow::Borrowed(_)));
+        assert_eq!(
+            escaped("a\n::error x\u{1b}[31m\r\t\u{7f}\u{9b}.gen"),
+            "a\\n::error x\\u{1b}[31m\\r\\t\\u{7f}\\u{9b}.gen"
+        );
+        assert_eq!(escaped("abc\u{202e}gen.exe"), "abc\\u{202e}gen.exe");
+        assert_eq!(
+            escaped_keeping_lines("line 1\n\tline 2\u{1b}"),
+            "line 1\n\tline 2\\u{1b}"
+        );
+        assert_eq!(escaped("é 世界"), "é 世界");
     }
 }

@@ -5,10 +5,14 @@
 //! `warning`, `note` for advice), primary location, secondary labels as
 //! `relatedLocations`, and its counterexample or witness trace as a
 //! `codeFlow` (one `threadFlow`, a location per step). Columns count
-//! Unicode code points, as the human and JSON reports do.
+//! Unicode code points, as the human and JSON reports do. A file's `uri` is
+//! its path as a URI reference: bytes outside RFC 3986's path characters
+//! (spaces, `%`, `#`, `?`, `:`, control characters, non-ASCII) are
+//! percent-encoded, so no name breaks or redirects the link.
 
 use std::collections::BTreeMap;
 
+use percent_encoding::{AsciiSet, CONTROLS, utf8_percent_encode};
 use serde_json::{Value, json};
 
 use super::FileReport;
@@ -75,7 +79,7 @@ fn assumption_notes(r: &FileReport<'_>) -> Vec<Value> {
                 "level": "note",
                 "descriptor": { "id": format!("assumption/{}", a.kind) },
                 "message": { "text": format!("{}: the verdicts assume {}", r.path, a.text) },
-                "locations": [{ "physicalLocation": { "artifactLocation": { "uri": r.path } } }],
+                "locations": [{ "physicalLocation": { "artifactLocation": { "uri": uri(r.path) } } }],
             })
         })
         .collect()
@@ -161,14 +165,49 @@ fn physical(sources: &SourceMap, span: Span) -> Value {
         region["endColumn"] = json!(column);
     }
     json!({
-        "artifactLocation": { "uri": start.file },
+        "artifactLocation": { "uri": uri(&start.file) },
         "region": region,
     })
+}
+
+/// The bytes of a path that a URI reference's path cannot hold as they are
+/// (`:` too: in a relative reference's first segment it would read as a
+/// scheme). Non-ASCII bytes are always encoded.
+const NOT_IN_PATH: &AsciiSet = &CONTROLS
+    .add(b' ')
+    .add(b'"')
+    .add(b'#')
+    .add(b'%')
+    .add(b':')
+    .add(b'<')
+    .add(b'>')
+    .add(b'?')
+    .add(b'[')
+    .add(b'\\')
+    .add(b']')
+    .add(b'^')
+    .add(b'`')
+    .add(b'{')
+    .add(b'|')
+    .add(b'}');
+
+/// A file's path as a URI reference.
+fn uri(path: &str) -> String {
+    utf8_percent_encode(path, NOT_IN_PATH).to_string()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_uri_encodes_what_a_path_reference_cannot_hold() {
+        assert_eq!(uri("specs/pilot.gen"), "specs/pilot.gen");
+        assert_eq!(
+            uri("a b/100%#1?:\n\u{1b}é.gen"),
+            "a%20b/100%25%231%3F%3A%0A%1B%C3%A9.gen"
+        );
+    }
 
     #[test]
     fn a_result_has_its_rule_level_region_and_related_locations() {
