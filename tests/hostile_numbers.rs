@@ -290,3 +290,32 @@ fn a_label_far_along_a_huge_line_renders_a_window_of_it() {
         assert!(stdout.len() < 4_000, "{name}: {} bytes", stdout.len());
     }
 }
+
+/// Item 11: a constant expression of 500 000 terms or 300 000 nested
+/// parentheses overflowed the stack (SIGABRT); now a `type-mismatch` says
+/// it is too long, and nothing recurses that deep.
+#[test]
+fn a_huge_constant_expression_is_an_error_not_a_stack_overflow() {
+    let dir = tempfile::tempdir().unwrap();
+    let flat = vec!["1"; 500_000].join("+");
+    let nested = format!("{}1{}", "1+(".repeat(300_000), ")".repeat(300_000));
+    for (name, expr) in [("flat.gen", flat), ("nested.gen", nested)] {
+        let text = format!(
+            "component c {{\n  const long k = {expr};\n  task t {{ period 10 ms; }};\n}};\n"
+        );
+        write(dir.path(), name, &text);
+        let (status, codes, file) = codes(dir.path(), &[name]);
+        assert_eq!(status, 1, "{name}");
+        assert_eq!(codes, ["type-mismatch"], "{name}");
+        let message = file["diagnostics"][0]["message"].as_str().unwrap();
+        assert!(message.contains("more than 4096 terms"), "{message}");
+    }
+    // Within the bounds: evaluated.
+    let text = format!(
+        "component c {{\n  const long k = {};\n  task t {{ period (k - 4000) ms; }};\n}};\n",
+        vec!["1"; 4010].join("+")
+    );
+    write(dir.path(), "ok.gen", &text);
+    let (status, codes, _) = codes(dir.path(), &["ok.gen"]);
+    assert_eq!((status, codes.len()), (0, 0));
+}

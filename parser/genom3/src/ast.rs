@@ -461,6 +461,11 @@ pub enum ExprKind {
     /// A numeric literal no IDL type holds (as written): an error when
     /// evaluated.
     OutOfRange(String),
+    /// An expression with more terms or deeper parentheses than
+    /// genom-check evaluates (`MAX_TERMS`, `MAX_NESTING` of the builder):
+    /// an error when evaluated; its parts are not kept (their depth would
+    /// exhaust the stack).
+    TooComplex,
     /// A floating-point literal.
     Float(f64),
     /// `TRUE` or `FALSE`.

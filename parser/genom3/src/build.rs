@@ -602,14 +602,27 @@ impl Builder {
     // ------------------------------------------------------------ expressions
 
     pub(crate) fn expr(&self, p: &P<'_>) -> Expr {
+        self.expr_at(p, 0)
+    }
+
+    /// [`Builder::expr`] at `depth` parentheses: an expression of more than
+    /// [`MAX_TERMS`] terms or [`MAX_NESTING`] levels is `TooComplex`, so
+    /// that building, evaluating and dropping it never recurse deeply.
+    fn expr_at(&self, p: &P<'_>, depth: usize) -> Expr {
         // const_expr = unary (binop unary)*: precedence climbing.
         let items: Vec<P<'_>> = kids(p).collect();
+        if depth > MAX_NESTING || items.len() > 2 * MAX_TERMS {
+            return Expr {
+                kind: ExprKind::TooComplex,
+                span: self.span(p),
+            };
+        }
         let mut operands = Vec::new();
         let mut ops = Vec::new();
         for it in &items {
             match it.as_rule() {
                 Rule::binop => ops.push(binop(it.as_str())),
-                _ => operands.push(self.unary(it)),
+                _ => operands.push(self.unary(it, depth)),
             }
         }
         let mut operands = operands.into_iter();
@@ -624,7 +637,7 @@ impl Builder {
         climb(first, &mut rest, 0)
     }
 
-    fn unary(&self, p: &P<'_>) -> Expr {
+    fn unary(&self, p: &P<'_>, depth: usize) -> Expr {
         let span = self.span(p);
         let ps: Vec<P<'_>> = kids(p).collect();
         let (op, prim) = match ps.as_slice() {
@@ -637,7 +650,7 @@ impl Builder {
                 };
             }
         };
-        let e = self.primary(prim);
+        let e = self.primary(prim, depth);
         match op {
             Some(op) => Expr {
                 kind: ExprKind::Unary(op, Box::new(e)),
@@ -647,11 +660,11 @@ impl Builder {
         }
     }
 
-    fn primary(&self, p: &P<'_>) -> Expr {
+    fn primary(&self, p: &P<'_>, depth: usize) -> Expr {
         let span = self.span(p);
         let ps = parts(p);
         let kind = match ps.first() {
-            Some(c) if c.as_rule() == Rule::const_expr => return self.expr(c),
+            Some(c) if c.as_rule() == Rule::const_expr => return self.expr_at(c, depth + 1),
             Some(c) if c.as_rule() == Rule::scoped_name => ExprKind::Name(self.ident(c).name),
             Some(lit) => match kids(lit).next() {
                 Some(l) => literal(&l, self),
@@ -723,6 +736,12 @@ fn precedence(op: &str) -> u8 {
         _ => 6,
     }
 }
+
+/// The most terms of one constant expression.
+const MAX_TERMS: usize = 4096;
+
+/// The most nested parentheses of one constant expression.
+const MAX_NESTING: usize = 256;
 
 fn climb(
     mut lhs: Expr,

@@ -310,6 +310,11 @@ impl Types {
     pub(crate) fn eval(&self, e: &Expr, scope: &[String]) -> Result<Value, String> {
         Ok(match &e.kind {
             ExprKind::Int(v) => Value::Int(*v),
+            ExprKind::TooComplex => {
+                return Err(
+                    "the expression has more than 4096 terms or 256 nested parentheses".to_owned(),
+                );
+            }
             ExprKind::OutOfRange(t) => {
                 return Err(format!(
                     "`{t}` is out of the range of every IDL number type"
