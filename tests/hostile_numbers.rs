@@ -319,3 +319,28 @@ fn a_huge_constant_expression_is_an_error_not_a_stack_overflow() {
     let (status, codes, _) = codes(dir.path(), &["ok.gen"]);
     assert_eq!((status, codes.len()), (0, 0));
 }
+
+/// Item 14: `#if !!!…!1` was quadratic (and recursed once per `!`); a
+/// condition is now evaluated in one pass, however long.
+#[test]
+fn a_huge_if_condition_is_read_in_one_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let body = "component c {\n  task t { period 10 ms; };\n};\n";
+    let bangs = format!("#if {}1\n#endif\n{body}", "!".repeat(1_000_000));
+    let chain = format!("#if {}||1\n{body}#endif\n", vec!["0"; 200_000].join("||"));
+    let hidden = format!("#if {}0\n{body}#endif\n", "!".repeat(1_000_000));
+    for (name, text, clean) in [
+        ("bangs.gen", bangs, true),
+        ("chain.gen", chain, true),
+        ("hidden.gen", hidden, false),
+    ] {
+        write(dir.path(), name, &text);
+        let started = std::time::Instant::now();
+        let (status, _, stderr) = run_in(dir.path(), &["--timeout", "60s", name]);
+        // Generous: it took minutes for a megabyte before.
+        assert!(started.elapsed().as_secs() < 30, "{name}");
+        // An even number of `!` before 0 is false: the component is
+        // hidden (then there is none: an error).
+        assert_eq!(status == 0, clean, "{name}: {stderr}");
+    }
+}

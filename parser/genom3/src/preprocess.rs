@@ -393,33 +393,40 @@ fn parse_include(rest: &str) -> Option<(String, bool)> {
 }
 
 /// Evaluates the simple `#if` conditions: `defined(X)`, `defined X`,
-/// `!defined(X)`, integers, joined by `&&` / `||` (left to right).
+/// `!defined(X)`, integers, joined by `&&` / `||` (`&&` binding tighter).
+/// Linear in the length of the condition, without recursion: a hostile
+/// `#if !!!…!1` or a long chain of `||` costs one pass.
 fn eval_condition(expr: &str, defines: &Macros) -> bool {
-    let expr = expr.trim();
-    if let Some((a, b)) = expr.split_once("||") {
-        return eval_condition(a, defines) || eval_condition(b, defines);
+    expr.split("||")
+        .any(|alt| alt.split("&&").all(|term| eval_term(term, defines)))
+}
+
+/// One term of a condition: `!` any number of times, then `defined X`,
+/// an integer or a macro name, possibly in parentheses.
+fn eval_term(term: &str, defines: &Macros) -> bool {
+    let mut expr = term.trim();
+    let mut negate = false;
+    while let Some(rest) = expr.strip_prefix('!') {
+        negate = !negate;
+        expr = rest.trim_start();
     }
-    if let Some((a, b)) = expr.split_once("&&") {
-        return eval_condition(a, defines) && eval_condition(b, defines);
-    }
-    if let Some(e) = expr.strip_prefix('!') {
-        return !eval_condition(e, defines);
-    }
-    if let Some(e) = expr.strip_prefix("defined") {
+    let value = if let Some(e) = expr.strip_prefix("defined") {
         let name = e
             .trim()
             .trim_start_matches('(')
             .trim_end_matches(')')
             .trim();
-        return defines.contains_key(name);
-    }
-    let inner = expr.trim_start_matches('(').trim_end_matches(')').trim();
-    match inner.parse::<i64>() {
-        Ok(v) => v != 0,
-        Err(_) => defines
-            .get(inner)
-            .is_some_and(|m| m.value.parse::<i64>().is_ok_and(|v| v != 0)),
-    }
+        defines.contains_key(name)
+    } else {
+        let inner = expr.trim_start_matches('(').trim_end_matches(')').trim();
+        match inner.parse::<i64>() {
+            Ok(v) => v != 0,
+            Err(_) => defines
+                .get(inner)
+                .is_some_and(|m| m.value.parse::<i64>().is_ok_and(|v| v != 0)),
+        }
+    };
+    value != negate
 }
 
 #[cfg(test)]
