@@ -23,10 +23,11 @@
 //! `TCK_ALGO` (default `covreach`), `TCK_KEEP` (a directory that keeps the
 //! models) and `TCK_MEMORY_MB` are as for `tests/tchecker_diff.rs`.
 //!
-//! Always run: the same comparison with a small explicit-state interpreter
-//! of the network (`tests/ta_sim`) on the timing fixtures, which also
-//! checks that no variable leaves its range and that the urgency predicate
-//! matches the urgent edges.
+//! Always run: the same comparison with a small interpreter of the network
+//! (`tests/ta_sim`: explicit locations and variables, clocks as zones) on
+//! the fixtures, and on the small corpus components when the corpus is on
+//! the machine, which also checks that no variable leaves its range and
+//! that the urgency predicate matches the urgent edges.
 
 #![allow(
     clippy::expect_used,
@@ -383,10 +384,9 @@ fn the_network_agrees_with_the_timed_engine_on_the_timing_fixtures() {
     assert!(tally.problems.is_empty(), "{text}");
 }
 
-/// The interpreter on the small corpus components (slow: run with
-/// `--ignored`).
+/// The interpreter on the small corpus components, when the corpus is on
+/// the machine (seconds with zones).
 #[test]
-#[ignore = "explores the corpus components' networks: minutes"]
 fn the_network_agrees_with_the_timed_engine_on_the_small_corpus_components() {
     let mut tally = Tally::default();
     for case in corpus() {
