@@ -176,9 +176,11 @@ pub(crate) fn mark_unverified(text: String, verified: bool, comment: (&str, &str
 
 /// The network of timed automata the `uppaal` and `tchecker` exports
 /// print: for a GenoM3 component, GenoM3's timed semantics
-/// ([`Network::build_genom3`], one instance per activity); otherwise the
-/// LANGUAGE.md zone engine's ([`Network::build`]). The second value, for
-/// a GenoM3 component, says which semantics for the exports' headers.
+/// ([`Network::build_genom3`], genom-check's default instances: one per
+/// activity, plus the request restarting one that interrupts itself);
+/// otherwise the LANGUAGE.md zone engine's ([`Network::build`]). The
+/// second value, for a GenoM3 component, says which semantics for the
+/// exports' headers.
 pub(crate) fn timed_network(
     component: &Component,
     format: &'static str,
@@ -194,7 +196,7 @@ pub(crate) fn timed_network(
     Ok((
         net,
         Some(
-            "GenoM3's timed semantics (docs/genom3-semantics.md section 15), one instance per activity as genom-check's --max-instances 1",
+            "GenoM3's timed semantics (docs/genom3-semantics.md section 15), one instance per activity and one more for an activity that interrupts itself (a client restarting it), as genom-check's --max-instances 1",
         ),
     ))
 }

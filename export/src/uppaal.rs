@@ -17,9 +17,10 @@
 //! - `<instantiation>` makes one process of each template, `<system>`
 //!   lists them;
 //! - `<queries>` (and the companion `.q` file): `A[] not deadlock`, one
-//!   `E<>` per codel location, `A[] not S_watchdog.late` per service with a
-//!   clocked watchdog (a max-time and no unbounded loop) and
-//!   `A[] not T.overrun` per periodic thread.
+//!   `E<>` per codel label (over every location it marks: a GenoM3
+//!   activity's codel in each of its slots), `A[] not S_watchdog.late`
+//!   per service with a clocked watchdog (a max-time and no unbounded
+//!   loop) and `A[] not T.overrun` per periodic thread.
 //!
 //! Identifiers that are UPPAAL or TChecker keywords are renamed with `_`
 //! suffixes ([`Renaming`]), listed in an XML comment and in the
@@ -469,7 +470,7 @@ impl<'a> Printer<'a> {
             formula: "A[] not deadlock".to_owned(),
             comment: "no deadlock (a thread overrun or a missed max-time is a terminal state, so it shows here too)".to_owned(),
         }];
-        let at = |l: &genom_model::timed_automata::Label| {
+        let place = |l: &genom_model::timed_automata::Label| {
             let p = net.process(l.process);
             format!(
                 "{}.{}",
@@ -477,21 +478,38 @@ impl<'a> Printer<'a> {
                 self.n(&p.locations[l.location.0 as usize].name)
             )
         };
+        // One query per label name: a label on several locations (a GenoM3
+        // activity's codel in each of its slots) asks about any of them.
+        let mut asked: Vec<&str> = Vec::new();
         for l in &net.labels {
+            if asked.contains(&l.name.as_str()) {
+                continue;
+            }
+            asked.push(&l.name);
+            let places: Vec<String> = net
+                .labels
+                .iter()
+                .filter(|m| m.name == l.name)
+                .map(place)
+                .collect();
+            let at = match places.as_slice() {
+                [one] => one.clone(),
+                many => format!("({})", many.join(" || ")),
+            };
             let (formula, comment) = match l.kind {
                 LabelKind::Codel(_) => (
-                    format!("E<> {}", at(l)),
+                    format!("E<> {at}"),
                     format!("{}: the codel can run", l.name),
                 ),
                 LabelKind::Timeout(_) => (
-                    format!("A[] not {}", at(l)),
+                    format!("A[] not {at}"),
                     format!(
                         "{}: the service always ends (or is interrupted) within its max-time",
                         l.name
                     ),
                 ),
                 LabelKind::Overrun(_) => (
-                    format!("A[] not {}", at(l)),
+                    format!("A[] not {at}"),
                     format!("{}: the thread never overruns its period", l.name),
                 ),
             };

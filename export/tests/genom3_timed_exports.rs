@@ -125,7 +125,9 @@ fn the_network_is_well_formed() {
     }
 }
 
-/// The labels of a TChecker file (checking its structure on the way).
+/// The labels of a TChecker file (checking its structure on the way; a
+/// label may mark several locations of one process, a GenoM3 activity's
+/// codel in each of its slots, never twice the same location).
 fn tck_labels(text: &str) -> BTreeSet<String> {
     let mut events = BTreeSet::new();
     let mut locations: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
@@ -156,9 +158,10 @@ fn tck_labels(text: &str) -> BTreeSet<String> {
                         .trim_end_matches('}')
                         .strip_prefix("labels: ")
                 }) {
-                    for x in l.split(',') {
-                        assert!(labels.insert(x.to_owned()), "label {x} twice");
-                    }
+                    let mine: Vec<&str> = l.split(',').collect();
+                    let distinct: BTreeSet<&str> = mine.iter().copied().collect();
+                    assert_eq!(distinct.len(), mine.len(), "a label twice: {line}");
+                    labels.extend(mine.into_iter().map(str::to_owned));
                 }
             }
             "edge" => {
@@ -226,10 +229,19 @@ fn uppaal_queries_ask_the_labels_of_the_tchecker_export() {
         assert!(uppaal.main.contains("GenoM3's timed semantics"), "{name}");
         let queries = uppaal_queries(&uppaal.main, &net);
         assert_eq!(queries[0], "A[] not deadlock", "{name}");
-        let mut asked = BTreeSet::new();
+        // One query per label, over every location it marks.
+        let mut places: BTreeMap<&str, Vec<String>> = BTreeMap::new();
         for l in &net.labels {
             let p = &net.processes[l.process.0 as usize];
             let at = format!("{}.{}", p.name, p.locations[l.location.0 as usize].name);
+            places.entry(&l.name).or_default().push(at);
+        }
+        let mut asked = BTreeSet::new();
+        for l in &net.labels {
+            let at = match places[l.name.as_str()].as_slice() {
+                [one] => one.clone(),
+                many => format!("({})", many.join(" || ")),
+            };
             let q = match l.kind {
                 LabelKind::Codel(_) => format!("E<> {at}"),
                 _ => format!("A[] not {at}"),
@@ -239,7 +251,7 @@ fn uppaal_queries_ask_the_labels_of_the_tchecker_export() {
         }
         assert_eq!(
             queries.len(),
-            net.labels.len() + 1,
+            places.len() + 1,
             "{name}: one query per label"
         );
         assert_eq!(asked, labels, "{name}");
@@ -254,6 +266,47 @@ fn uppaal_queries_ask_the_labels_of_the_tchecker_export() {
             "{name}: the .q file asks the same queries"
         );
     }
+}
+
+#[test]
+fn an_activity_that_interrupts_itself_has_a_second_slot() {
+    let all = fixtures();
+    let get = |n: &str| {
+        all.iter()
+            .find(|(name, _)| name == n)
+            .map(|(_, c)| c)
+            .expect("the fixture")
+    };
+    let has_var = |net: &Network, v: &str| net.vars.iter().any(|x| x.name == v);
+    // `move` does not interrupt itself: one slot.
+    let one = Network::build_genom3(get("f4_instances")).expect("a GenoM3 network");
+    assert!(has_var(&one, "st_move") && !has_var(&one, "st_move_2"));
+    let two = Network::build_genom3(get("f10_restart")).expect("a GenoM3 network");
+    assert!(has_var(&two, "st_track") && has_var(&two, "st_track_2"));
+    assert!(has_var(&two, "st_plan") && !has_var(&two, "st_plan_2"));
+    // Each of `track`'s codel labels marks its location in both slots.
+    let mut places: BTreeMap<&str, Vec<String>> = BTreeMap::new();
+    for l in &two.labels {
+        let p = &two.processes[l.process.0 as usize];
+        let at = format!("{}.{}", p.name, p.locations[l.location.0 as usize].name);
+        places.entry(&l.name).or_default().push(at);
+    }
+    for state in ["start", "run"] {
+        assert_eq!(
+            places[format!("codel_track_{state}").as_str()],
+            [
+                format!("task_driver.track_{state}"),
+                format!("task_driver.track_2_{state}")
+            ]
+        );
+    }
+    assert_eq!(places["codel_plan_start"].len(), 1);
+    let uppaal = export(Format::Uppaal, get("f10_restart"));
+    let queries = uppaal_queries(&uppaal.main, &two);
+    assert!(
+        queries.contains(&"E<> (task_driver.track_run || task_driver.track_2_run)".to_owned()),
+        "{queries:?}"
+    );
 }
 
 #[test]

@@ -1,25 +1,30 @@
 //! A small explicit-state interpreter of a [`Network`] for tests: it runs
 //! the network's own expressions and statements (as the printers render
-//! them), with time advancing in half units (a digitisation of the clock
-//! values: every state it reaches is reachable, but it may miss states
-//! that need other fractional parts; the GenoM3 networks' constraints are
-//! met at integer or half-integer instants in the fixtures). It checks on
-//! the way what `tck-reach` and UPPAAL would refuse: a variable outside its
-//! range, and an [`Network::urgency`] predicate that disagrees with the
-//! urgent edges.
+//! them) on explicit locations and integer variables, and the clocks
+//! symbolically, as zones ([`zone`]: difference-bound matrices with the
+//! maximal-constant extrapolation, each zone kept unless one already found
+//! for the same locations and variables includes it), so that fine time
+//! units (a 10 us `validate` against 20 ms periods) cost nothing. It checks
+//! on the way what `tck-reach` and UPPAAL would refuse: a variable outside
+//! its range, and an [`Network::urgency`] predicate that disagrees with
+//! the urgent edges.
 
 #![allow(dead_code, clippy::expect_used, clippy::unwrap_used)]
 
-use std::collections::{BTreeSet, HashSet, VecDeque};
+mod zone;
+
+use std::collections::{BTreeSet, HashMap, VecDeque};
 
 use genom_model::timed_automata::{ClockConstraint, CmpOp, Edge, Expr, LValue, Network, Stmt};
 
-/// One state: locations, variables, clocks (in half units, capped).
+use zone::Zone;
+
+/// One symbolic state: locations, variables, and the clocks' zone.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 struct St {
     locs: Vec<u32>,
     vars: Vec<i64>,
-    clocks: Vec<i64>,
+    zone: Zone,
 }
 
 /// What the exploration found.
@@ -27,9 +32,9 @@ struct St {
 pub struct Reach {
     /// Every label of a location reached.
     pub labels: BTreeSet<String>,
-    /// States explored.
+    /// Symbolic states explored.
     pub states: usize,
-    /// Whether every reachable state (of the digitisation) was explored.
+    /// Whether every reachable symbolic state was explored.
     pub complete: bool,
     /// Problems found on the way (out-of-range values, urgency mismatch).
     pub problems: Vec<String>,
@@ -124,77 +129,115 @@ impl Env<'_> {
     }
 }
 
-fn holds(cs: &[ClockConstraint], clocks: &[i64]) -> bool {
-    cs.iter()
-        .all(|c| cmp(c.op, clocks[c.clock.0 as usize], 2 * c.bound))
+fn constrain(z: &mut Zone, cs: &[ClockConstraint]) {
+    for c in cs {
+        z.constrain(c.clock.0 as usize, c.op, c.bound);
+    }
 }
 
 struct Sim<'a> {
     net: &'a Network,
-    cap: i64,
+    /// Per clock: the largest constant it is compared with.
+    max: Vec<i64>,
 }
 
 impl Sim<'_> {
-    fn guard(&self, e: &Edge, s: &St) -> bool {
-        let mut vars = s.vars.clone();
+    fn int_guard(&self, e: &Edge, vars: &[i64]) -> bool {
+        let mut vars = vars.to_vec();
         let env = Env {
             vars: &mut vars,
             locals: Vec::new(),
         };
-        env.eval(&e.guard) != 0 && holds(&e.clock_guard, &s.clocks)
+        env.eval(&e.guard) != 0
     }
 
-    fn invariants(&self, s: &St) -> bool {
+    /// Intersects `z` with the invariants of `locs`.
+    fn invariants(&self, locs: &[u32], z: &mut Zone) {
+        for (p, &l) in self.net.processes.iter().zip(locs) {
+            constrain(z, &p.locations[l as usize].invariant);
+        }
+    }
+
+    fn committed(&self, locs: &[u32]) -> bool {
         self.net
             .processes
             .iter()
-            .zip(&s.locs)
-            .all(|(p, &l)| holds(&p.locations[l as usize].invariant, &s.clocks))
-    }
-
-    fn committed(&self, s: &St) -> bool {
-        self.net
-            .processes
-            .iter()
-            .zip(&s.locs)
+            .zip(locs)
             .any(|(p, &l)| p.locations[l as usize].committed)
     }
 
-    fn successors(&self, s: &St, out: &mut Vec<St>, problems: &mut Vec<String>) {
-        let committed = self.committed(s);
-        let mut urgent = false;
+    /// The edges whose integer guards hold in locations `locs` with
+    /// variables `vars` (only committed processes' in a committed state),
+    /// with their processes.
+    fn edges<'n>(&'n self, locs: &[u32], vars: &[i64]) -> Vec<(usize, &'n Edge)> {
+        let committed = self.committed(locs);
+        let mut out = Vec::new();
         for (k, p) in self.net.processes.iter().enumerate() {
-            let here = s.locs[k];
+            let here = locs[k];
             if committed && !p.locations[here as usize].committed {
                 continue;
             }
             for e in p.edges.iter().filter(|e| e.from.0 == here) {
-                if !self.guard(e, s) {
-                    continue;
+                if self.int_guard(e, vars) {
+                    out.push((k, e));
                 }
-                urgent |= e.urgent;
-                let mut n = s.clone();
-                let mut resets = Vec::new();
-                let mut env = Env {
-                    vars: &mut n.vars,
-                    locals: Vec::new(),
-                };
-                env.run(&e.statements, &mut resets);
-                for c in resets {
-                    n.clocks[c] = 0;
+            }
+        }
+        out
+    }
+
+    /// Whether time may pass in locations `locs` with variables `vars`.
+    fn may_delay(&self, locs: &[u32], vars: &[i64]) -> bool {
+        !self.committed(locs) && !self.edges(locs, vars).iter().any(|(_, e)| e.urgent)
+    }
+
+    /// Time passes (when it may), under the invariants; extrapolated.
+    fn delay(&self, s: &mut St) {
+        if self.may_delay(&s.locs, &s.vars) {
+            s.zone.up();
+        }
+        self.invariants(&s.locs, &mut s.zone);
+        if !s.zone.is_empty() {
+            s.zone.extrapolate(&self.max);
+        }
+    }
+
+    fn successors(&self, s: &St, out: &mut Vec<St>, problems: &mut Vec<String>) {
+        let edges = self.edges(&s.locs, &s.vars);
+        let urgent = edges.iter().any(|(_, e)| e.urgent);
+        for (k, e) in edges {
+            let mut zone = s.zone.clone();
+            constrain(&mut zone, &e.clock_guard);
+            if zone.is_empty() {
+                continue;
+            }
+            let mut n = s.clone();
+            let mut resets = Vec::new();
+            let mut env = Env {
+                vars: &mut n.vars,
+                locals: Vec::new(),
+            };
+            env.run(&e.statements, &mut resets);
+            for c in resets {
+                zone.reset(c);
+            }
+            n.locs[k] = e.to.0;
+            for (v, x) in self.net.vars.iter().zip(&n.vars) {
+                if *x < v.min || *x > v.max {
+                    problems.push(format!(
+                        "{} = {x} out of [{}, {}] after `{}`",
+                        v.name, v.min, v.max, e.description
+                    ));
                 }
-                n.locs[k] = e.to.0;
-                for (v, x) in self.net.vars.iter().zip(&n.vars) {
-                    if *x < v.min || *x > v.max {
-                        problems.push(format!(
-                            "{} = {x} out of [{}, {}] after `{}`",
-                            v.name, v.min, v.max, e.description
-                        ));
-                    }
-                }
-                if self.invariants(&n) {
-                    out.push(n);
-                }
+            }
+            self.invariants(&n.locs, &mut zone);
+            if zone.is_empty() {
+                continue;
+            }
+            n.zone = zone;
+            self.delay(&mut n);
+            if !n.zone.is_empty() {
+                out.push(n);
             }
         }
         let mut vars = s.vars.clone();
@@ -203,31 +246,41 @@ impl Sim<'_> {
             locals: Vec::new(),
         };
         let predicate = env.eval(&self.net.urgency) != 0;
-        if predicate != urgent && !committed {
+        if predicate != urgent && !self.committed(&s.locs) {
             problems.push(format!(
                 "urgency predicate {predicate}, urgent edges enabled {urgent}"
             ));
         }
-        if committed || urgent {
-            return;
-        }
-        let mut d = s.clone();
-        for c in &mut d.clocks {
-            *c = (*c + 1).min(self.cap);
-        }
-        if self.invariants(&d) && d != *s {
-            out.push(d);
-        }
     }
 }
 
-/// Explores the network (at most `limit` states).
+/// The largest constant each clock is compared with (0 for none).
+fn max_constants(net: &Network) -> Vec<i64> {
+    let mut max = vec![0; net.clocks.len()];
+    let mut see = |cs: &[ClockConstraint]| {
+        for c in cs {
+            let m = &mut max[c.clock.0 as usize];
+            *m = (*m).max(c.bound.abs());
+        }
+    };
+    for p in &net.processes {
+        for l in &p.locations {
+            see(&l.invariant);
+        }
+        for e in &p.edges {
+            see(&e.clock_guard);
+        }
+    }
+    max
+}
+
+/// Explores the network (at most `limit` symbolic states).
 pub fn explore(net: &Network, limit: usize) -> Reach {
     let sim = Sim {
         net,
-        cap: 2 * net.horizon + 1,
+        max: max_constants(net),
     };
-    let init = St {
+    let mut init = St {
         locs: net
             .processes
             .iter()
@@ -241,12 +294,22 @@ pub fn explore(net: &Network, limit: usize) -> Reach {
             })
             .collect(),
         vars: net.vars.iter().map(|v| v.init).collect(),
-        clocks: vec![0; net.clocks.len()],
+        zone: Zone::zero(net.clocks.len()),
     };
-    let mut seen = HashSet::new();
-    let mut queue = VecDeque::new();
+    sim.delay(&mut init);
     let mut reach = Reach::default();
-    seen.insert(init.clone());
+    if init.zone.is_empty() {
+        reach.complete = true;
+        return reach;
+    }
+    // Per locations and variables: the zones found (none includes another
+    // found before it).
+    let mut seen: HashMap<(Vec<u32>, Vec<i64>), Vec<Zone>> = HashMap::new();
+    let mut queue = VecDeque::new();
+    seen.insert(
+        (init.locs.clone(), init.vars.clone()),
+        vec![init.zone.clone()],
+    );
     queue.push_back(init);
     let mut next = Vec::new();
     while let Some(s) = queue.pop_front() {
@@ -265,9 +328,13 @@ pub fn explore(net: &Network, limit: usize) -> Reach {
             return reach;
         }
         for n in next.drain(..) {
-            if seen.insert(n.clone()) {
-                queue.push_back(n);
+            let zones = seen.entry((n.locs.clone(), n.vars.clone())).or_default();
+            if zones.iter().any(|z| n.zone.within(z)) {
+                continue;
             }
+            zones.retain(|z| !z.within(&n.zone));
+            zones.push(n.zone.clone());
+            queue.push_back(n);
         }
     }
     reach.complete = true;

@@ -251,7 +251,9 @@ pub struct Network {
     pub processes: Vec<Process>,
     /// The synchronisations (none: steps are atomic edges).
     pub syncs: Vec<Sync>,
-    /// Every label, in process and location order.
+    /// Every label, in process and location order: one entry per location
+    /// that carries it (a GenoM3 activity's codel label marks its location
+    /// in each of the activity's slots, so a name may come more than once).
     pub labels: Vec<Label>,
     /// The variables of each service, by service id.
     pub services: Vec<ServiceVars>,

@@ -1,9 +1,10 @@
 //! The control thread (sections 4-6): requests at any time once the
 //! component runs (10.1), admitted by `after`/`before` (4.1, 4.2); an
-//! activity request starts an instance (one per activity) after
-//! interrupting its targets (5.1), pending while one of them stops (5.3);
-//! a function or attribute marks itself done and interrupts its targets
-//! (6.1), `kill` all of them before the shutdown (5.7, 10.2);
+//! activity request takes a free slot of the activity (one instance, two
+//! for an activity that interrupts itself: the request restarting it,
+//! 3.4) after interrupting its targets (5.1), pending while one of them
+//! stops (5.3); a function or attribute marks itself done and interrupts
+//! its targets (6.1), `kill` all of them before the shutdown (5.7, 10.2);
 //! `abort_activity` interrupts one instance (5.6). The control codels that
 //! take time (a WCET and a lock some task's codel contends, 15.5) run in
 //! turn: each waits for its locks (urgent begin), runs within its WCET,
@@ -23,7 +24,9 @@ use super::{Builder, DRAIN, RUN};
 /// A request's effect once its control codels succeeded.
 #[derive(Debug, Clone, Copy)]
 enum Job {
-    Accept(usize),
+    /// An activity's request (its service).
+    Accept(ServiceId),
+    /// A function, attribute or built-in (index into `controls`).
     Call(usize),
 }
 
@@ -49,14 +52,16 @@ impl Builder<'_> {
         let e = self.local();
         let mut out = vec![Stmt::Local(e.clone(), Expr::int(0))];
         match job {
-            Job::Accept(a) => {
-                let targets = self.r.slots[a].interrupts.clone();
-                for &b in &targets {
-                    out.extend(self.flag(b, false, &e));
+            Job::Accept(sid) => {
+                // The first free slot: the slots of one activity are
+                // interchangeable, as the engine's instances are.
+                let slots = self.r.slot_of.get(&sid).cloned().unwrap_or_default();
+                let mut chain = Vec::new();
+                for &a in slots.iter().rev() {
+                    let accept = self.accept(a, &e);
+                    chain = vec![Stmt::If(is(self.slots[a].st, 0), accept, chain)];
                 }
-                let st = self.slots[a].st;
-                let delayed = Expr::or(targets.iter().map(|&b| self.stopping(b)));
-                Stmt::push_if(&mut out, delayed, vec![set(st, 1)], vec![set(st, 2)]);
+                out.extend(chain);
             }
             Job::Call(k) => {
                 let ctl = self.r.controls[k].clone();
@@ -70,6 +75,26 @@ impl Builder<'_> {
             }
         }
         out.extend(self.settle(&e));
+        out
+    }
+
+    /// A request accepted into free slot `a`: it interrupts its targets
+    /// (the activity's other slot too when it interrupts itself) and is
+    /// accepted, or delayed while one of them stops (5.1, 5.3).
+    fn accept(&self, a: usize, e: &str) -> Vec<Stmt> {
+        let targets: Vec<usize> = self.r.slots[a]
+            .interrupts
+            .iter()
+            .copied()
+            .filter(|&b| b != a)
+            .collect();
+        let mut out = Vec::new();
+        for &b in &targets {
+            out.extend(self.flag(b, false, e));
+        }
+        let st = self.slots[a].st;
+        let delayed = Expr::or(targets.iter().map(|&b| self.stopping(b)));
+        Stmt::push_if(&mut out, delayed, vec![set(st, 1)], vec![set(st, 2)]);
         out
     }
 
@@ -98,21 +123,23 @@ impl Builder<'_> {
             description: "the control thread: requests and control codels".to_owned(),
         };
         let running = is(self.phase, RUN);
-        let acts: Vec<(usize, ServiceId)> =
-            self.r.slot_of.iter().map(|(&sid, &a)| (a, sid)).collect();
-        for (a, sid) in acts {
-            let guard = Expr::and([
-                running.clone(),
-                is(self.slots[a].st, 0),
-                self.admissible(sid),
-            ]);
-            self.request(&mut p, sid, guard, Job::Accept(a));
+        let acts: Vec<(ServiceId, Vec<usize>)> = self
+            .r
+            .slot_of
+            .iter()
+            .map(|(&sid, v)| (sid, v.clone()))
+            .collect();
+        for (sid, slots) in acts {
+            let free = Expr::or(slots.iter().map(|&a| is(self.slots[a].st, 0)));
+            let guard = Expr::and([running.clone(), free, self.admissible(sid)]);
+            self.request(&mut p, sid, guard, Job::Accept(sid));
         }
         for k in 0..self.r.controls.len() {
             let ctl = self.r.controls[k].clone();
             let guard = Expr::and([running.clone(), self.admissible(ctl.service)]);
             if ctl.kind == CtlKind::Abort {
-                for a in self.r.slot_of.values().copied().collect::<Vec<_>>() {
+                let all: Vec<usize> = self.r.slot_of.values().flatten().copied().collect();
+                for a in all {
                     let e = self.local();
                     let mut edge = self.ctl_edge(
                         0,

@@ -6,9 +6,17 @@
 //!
 //! The encoding (docs/exports/tchecker.md, section "GenoM3 components"):
 //!
-//! - **One instance per activity**: each activity has one *slot*, each
-//!   task with permanent codels one more (first in its sweep). This is the
-//!   engine's `--max-instances 1`, its default.
+//! - **Slots**: each activity has one *slot* (one instance), each task
+//!   with permanent codels one more (first in its sweep), and an activity
+//!   that interrupts itself a second one, `X_2`: a client restarts it by
+//!   requesting it again while an instance lives, and the new instance
+//!   interrupts the other slot's (ended if accepted, flagged or sent to
+//!   `stop` if running, left alone if stopping) and pends until it ended
+//!   (3.4, 5.1-5.3). A request takes the activity's first free slot (its
+//!   slots are interchangeable, as the engine's instances are) and is
+//!   possible while one is free. This is the engine's default,
+//!   `--max-instances 1`: one instance of each activity, plus the request
+//!   restarting one that interrupts itself (15.8).
 //! - **Integer variables** per slot: its status `st_X` (0 none, 1 accepted
 //!   and delayed by interrupted instances, 2 accepted, 3 running its
 //!   machine, 4 on its stop path), its state `q_X`, `due_X` (runs a codel
@@ -38,8 +46,10 @@
 //!   and `cpos`; a thread that cannot begin its codel takes a ticket (the
 //!   urgent `ticket`/`cticket` edges) and begins at the queue's head.
 //!
-//! Labels: `codel_SERVICE_CODEL` on the location where an activity's codel
-//! runs, `overrun_TASK` on a periodic task's overrun location.
+//! Labels: `codel_SERVICE_CODEL` on the locations where an activity's
+//! codel runs (one per slot of the activity: [`Network::labels`] has one
+//! entry per location), `overrun_TASK` on a periodic task's overrun
+//! location.
 
 mod control;
 mod fifo;
@@ -49,7 +59,7 @@ mod tasks;
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::component::{Component, ServiceId};
+use crate::component::{CodelId, Component, ServiceId};
 use crate::span::Span;
 use crate::timed_automata::{Clock, ClockId, ClockRole, EventId, Expr, IntVar, Network, VarId};
 
@@ -152,6 +162,8 @@ struct Builder<'a> {
     net: Network,
     names: BTreeSet<String>,
     labels: BTreeSet<String>,
+    /// Per activity codel: its label (shared by the activity's slots).
+    codel_labels: BTreeMap<CodelId, String>,
     unit: u64,
     slots: Vec<SlotVars>,
     tasks: Vec<TaskVars>,
@@ -182,7 +194,8 @@ const FAILED: i64 = 5;
 
 impl Network {
     /// The network of a GenoM3 component in GenoM3's timed semantics (one
-    /// instance per activity).
+    /// instance per activity, two for an activity that interrupts itself:
+    /// genom-check's default `--max-instances 1`).
     pub fn build_genom3(c: &Component) -> Result<Network, Genom3NetworkError> {
         let g = c
             .genom3
@@ -204,13 +217,13 @@ impl Network {
     }
 }
 
-/// What the network does not model: more than 31 slots of one task
-/// (GenoM3's pool), states beyond what a variable holds.
+/// What the network does not model: a task with more slots than
+/// GenoM3's pool of 32 (a request could find it full).
 fn refuse(r: &Read) -> Result<(), Genom3NetworkError> {
     for t in &r.tasks {
         if t.slots.len() > 32 {
             return Err(Genom3NetworkError::Unsupported(format!(
-                "task `{}` has more activities than GenoM3's 32 slots",
+                "task `{}` needs more instance slots than GenoM3's 32",
                 t.name
             )));
         }
@@ -248,6 +261,7 @@ impl<'a> Builder<'a> {
             net,
             names,
             labels: BTreeSet::new(),
+            codel_labels: BTreeMap::new(),
             unit,
             slots: Vec::new(),
             tasks: Vec::new(),

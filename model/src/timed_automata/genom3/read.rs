@@ -1,7 +1,8 @@
 //! The GenoM3 component as the network needs it, read from the resolved
 //! [`Component`] and its [`Genom3Info`] (`docs/genom3-semantics.md`): the
-//! tasks, one *slot* per activity (one instance each) and per task with
-//! permanent codels, the codel state machines, the control services
+//! tasks, the *slots* (one instance each: one per activity, two for an
+//! activity that interrupts itself, 3.4, and one per task with permanent
+//! codels), the codel state machines, the control services
 //! (functions, attributes, the built-in `kill` and `abort_activity`) with
 //! their control codels, and GenoM3's exclusion lists (8.1-8.2), computed
 //! here from the codels' parameters.
@@ -44,11 +45,11 @@ pub(super) struct Fsm {
     pub stop: Option<usize>,
 }
 
-/// An instance slot: an activity's single instance, or a task's permanent
+/// An instance slot: one instance of an activity, or a task's permanent
 /// activity.
 #[derive(Debug, Clone)]
 pub(super) struct Slot {
-    /// An identifier part (`move`, `task_t`).
+    /// An identifier part (`move`, `move_2`, `task_t`).
     pub name: String,
     /// Its task (index into [`Read::tasks`]).
     pub task: usize,
@@ -56,8 +57,12 @@ pub(super) struct Slot {
     pub service: Option<ServiceId>,
     /// Its state machine.
     pub fsm: Fsm,
-    /// The slots it interrupts when accepted.
+    /// The slots it interrupts when accepted (every slot of each target
+    /// activity).
     pub interrupts: Vec<usize>,
+    /// For an activity's second slot: its first one, whose codels (keys)
+    /// it shares.
+    pub second_of: Option<usize>,
 }
 
 /// A task.
@@ -207,8 +212,10 @@ pub(super) struct Read {
     /// Per service: `after` and `before` services.
     pub after: BTreeMap<ServiceId, Vec<ServiceId>>,
     pub before: BTreeMap<ServiceId, Vec<ServiceId>>,
-    /// Per activity service: its slot.
-    pub slot_of: BTreeMap<ServiceId, usize>,
+    /// Per activity service: its slots (two when it interrupts itself:
+    /// a client restarts it by requesting it again while an instance
+    /// lives, 3.4 and 15.8).
+    pub slot_of: BTreeMap<ServiceId, Vec<usize>>,
 }
 
 /// Reads a GenoM3 component.
@@ -248,6 +255,7 @@ pub(super) fn read(c: &Component, g: &Genom3Info) -> Read {
             service: None,
             fsm,
             interrupts: Vec::new(),
+            second_of: None,
         });
         r.tasks[t].perm = Some(slot);
         r.tasks[t].slots.push(slot);
@@ -256,16 +264,29 @@ pub(super) fn read(c: &Component, g: &Genom3Info) -> Read {
         let Some(&t) = s.thread.as_ref().and_then(|x| task_of.get(&x.id)) else {
             continue;
         };
-        let slot = r.slots.len();
-        r.slots.push(Slot {
+        let first = Slot {
             name: s.name.name.clone(),
             task: t,
             service: Some(sid),
             fsm: activity_fsm(c, g, sid),
             interrupts: Vec::new(),
-        });
-        r.tasks[t].slots.push(slot);
-        r.slot_of.insert(sid, slot);
+            second_of: None,
+        };
+        let mut slots = vec![first];
+        if s.stops.iter().any(|x| x.id == sid) {
+            // One instance, plus the request restarting it (3.4, 15.8).
+            let second = Slot {
+                name: format!("{}_2", s.name.name),
+                second_of: Some(r.slots.len()),
+                ..slots[0].clone()
+            };
+            slots.push(second);
+        }
+        for slot in slots {
+            r.tasks[t].slots.push(r.slots.len());
+            r.slot_of.entry(sid).or_default().push(r.slots.len());
+            r.slots.push(slot);
+        }
     }
     read_controls(c, g, &mut r);
     for i in 0..r.slots.len() {
@@ -298,7 +319,7 @@ fn read_controls(c: &Component, g: &Genom3Info, r: &mut Read) {
             _ => CtlKind::Plain,
         };
         let interrupts = if kind == CtlKind::Kill {
-            r.slot_of.values().copied().collect()
+            r.slot_of.values().flatten().copied().collect()
         } else {
             targets(c, &r.slot_of, sid)
         };
@@ -311,11 +332,13 @@ fn read_controls(c: &Component, g: &Genom3Info, r: &mut Read) {
 }
 
 /// The activity slots a service interrupts (sorted).
-fn targets(c: &Component, slot_of: &BTreeMap<ServiceId, usize>, sid: ServiceId) -> Vec<usize> {
+fn targets(c: &Component, slot_of: &BTreeMap<ServiceId, Vec<usize>>, sid: ServiceId) -> Vec<usize> {
     let mut out: Vec<usize> = c.services[sid]
         .stops
         .iter()
-        .filter_map(|x| slot_of.get(&x.id).copied())
+        .filter_map(|x| slot_of.get(&x.id))
+        .flatten()
+        .copied()
         .collect();
     out.sort_unstable();
     out.dedup();
@@ -394,10 +417,19 @@ fn activity_fsm(c: &Component, g: &Genom3Info, sid: ServiceId) -> Fsm {
 }
 
 /// Numbers every codel (slot states, then control codels) and computes
-/// the exclusion lists (8.2).
+/// the exclusion lists (8.2). An activity's second slot shares its first
+/// slot's keys: a key is a codel, whichever instance runs it.
 fn number_keys(c: &Component, g: &Genom3Info, r: &mut Read) {
     let mut keys = Vec::new();
-    for (i, slot) in r.slots.iter_mut().enumerate() {
+    for i in 0..r.slots.len() {
+        if let Some(first) = r.slots[i].second_of {
+            let shared: Vec<usize> = r.slots[first].fsm.states.iter().map(|s| s.key).collect();
+            for (st, key) in r.slots[i].fsm.states.iter_mut().zip(shared) {
+                st.key = key;
+            }
+            continue;
+        }
+        let slot = &mut r.slots[i];
         for (s, st) in slot.fsm.states.iter_mut().enumerate() {
             st.key = keys.len();
             let access = st

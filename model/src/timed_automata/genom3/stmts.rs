@@ -194,7 +194,10 @@ impl Builder<'_> {
             let s = self.slots[a];
             let mut inner = Vec::new();
             for &b in &slot.interrupts {
-                inner.extend(self.flag(b, b == a, e));
+                // Its own activity's instances not started yet are spared
+                // (ROS-act `interrupt_other` skips the interrupter itself).
+                let own = self.r.slots[b].service == slot.service;
+                inner.extend(self.flag(b, own, e));
             }
             let delayed = Expr::or(slot.interrupts.iter().map(|&b| self.stopping(b)));
             when(

@@ -1,7 +1,8 @@
 //! The process of one task: `sleep` (periodic, before its first tick),
 //! `idle`, one location per codel of its slots (label `codel_S_C` for an
-//! activity's codel), and `overrun` (label `overrun_T`, committed and
-//! without edges: nothing happens after it, as in the engine).
+//! activity's codel, on its location in each of the activity's slots), and
+//! `overrun` (label `overrun_T`, committed and without edges: nothing
+//! happens after it, as in the engine).
 //!
 //! Edges: ticks (15.1: at `delay`, then every `period`, when the previous
 //! wake-up's work is finished; else the overrun edge), activations of an
@@ -289,10 +290,19 @@ impl Builder<'_> {
         }
         let mut labels = Vec::new();
         if let (Some(sid), Some(codel)) = (slot.service, st.codel) {
-            let label = self.fresh_label(&format!(
-                "codel_{}_{}",
-                self.c.services[sid].name.name, self.c.codels[codel].name.name
-            ));
+            // One label per codel, on its location in each of the
+            // activity's slots.
+            let label = match self.codel_labels.get(&codel) {
+                Some(l) => l.clone(),
+                None => {
+                    let l = self.fresh_label(&format!(
+                        "codel_{}_{}",
+                        self.c.services[sid].name.name, self.c.codels[codel].name.name
+                    ));
+                    self.codel_labels.insert(codel, l.clone());
+                    l
+                }
+            };
             labels.push(label.clone());
             self.net.labels.push(Label {
                 name: label,
