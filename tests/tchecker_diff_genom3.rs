@@ -6,7 +6,8 @@
 //! GenoM3 network (`Network::build_genom3`) must be reachable for
 //! `tck-reach` exactly when genom-check says so:
 //!
-//! - `overrun_T`: a `thread-overrun` on task `T` (timed GenoM3 engine);
+//! - `overrun_T`: a `thread-overrun` on task `T`, or a `codel-overrun` of
+//!   one of its codels with a trace (timed GenoM3 engine);
 //! - `codel_S_C` (activity `S`, state `C`): reachable unless `S` is a
 //!   `dead-service`, or `C` has an `unreachable-codel`, or no path of
 //!   yields leads to `C` from `start` or `stop` (no diagnostic then).
@@ -198,6 +199,13 @@ impl Verdicts {
             match d.code {
                 Code::ThreadOverrun => {
                     v.overrun.insert(name(&d.message));
+                }
+                // A codel longer than its period that the timed engine saw
+                // running at a tick (its trace): its task overruns.
+                Code::CodelOverrun if d.trace.is_some() => {
+                    let task = d.message.split("but task `").nth(1).unwrap_or_default();
+                    v.overrun
+                        .insert(task.split('`').next().unwrap_or_default().to_owned());
                 }
                 Code::DeadService => {
                     v.dead.insert(name(&d.message));
