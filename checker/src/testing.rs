@@ -116,17 +116,5 @@ pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; 
 /// Loads GenoM3 text as `t.gen` (no include path from the environment);
 /// panics on any error, as a test snippet must be valid.
 pub fn load_genom3(text: &str) -> Component {
-    let options = genom_genom3::Genom3Options {
-        use_env_include_path: false,
-        ..genom_genom3::Genom3Options::default()
-    };
-    let out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let errors: Vec<_> = out
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == genom_model::Severity::Error)
-        .collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    out.component.unwrap_or_else(|| panic!("no component"))
+    genom_genom3::load_clean(text, None).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -56,20 +56,5 @@ pub fn load_genom3_wcet(text: &str, wcet: &str) -> Component {
 }
 
 fn load(text: &str, wcet: Option<&str>) -> Component {
-    let options = genom_genom3::Genom3Options {
-        use_env_include_path: false,
-        ..genom_genom3::Genom3Options::default()
-    };
-    let mut out = genom_genom3::load_text(Path::new("t.gen"), text.to_owned(), &options)
-        .unwrap_or_else(|e| panic!("{e}"));
-    if let Some(w) = wcet {
-        genom_genom3::add_wcet_file(&mut out, Path::new("t.wcet"), w.to_owned());
-    }
-    let errors: Vec<_> = out
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == genom_model::Severity::Error)
-        .collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    out.component.unwrap_or_else(|| panic!("no component"))
+    genom_genom3::load_clean(text, wcet).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -162,6 +162,31 @@ pub fn load_text(
     Ok(out)
 }
 
+/// Reads `text` as `t.gen` and, given, `wcet` as its WCET file `t.wcet`,
+/// without the environment's include path: the component when nothing
+/// is an error, else the errors. For tests and tools that need a clean
+/// component from a snippet.
+pub fn load_clean(text: &str, wcet: Option<&str>) -> Result<Component, String> {
+    let options = Genom3Options {
+        use_env_include_path: false,
+        ..Genom3Options::default()
+    };
+    let mut out =
+        load_text(Path::new("t.gen"), text.to_owned(), &options).map_err(|e| e.to_string())?;
+    if let Some(w) = wcet {
+        add_wcet_file(&mut out, Path::new("t.wcet"), w.to_owned());
+    }
+    let errors: Vec<&Diagnostic> = out
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == genom_model::Severity::Error)
+        .collect();
+    if !errors.is_empty() {
+        return Err(format!("{errors:#?}"));
+    }
+    out.component.ok_or_else(|| "no component".to_owned())
+}
+
 /// Reads a WCET side file (already loaded as `text`) into `out`: the file
 /// joins `out.sources`, its entries set the component's codel WCETs, and
 /// its `bad-wcet` errors join `out.diagnostics`.
