@@ -87,6 +87,12 @@ impl SourceFile {
         (line + 1, col + 1)
     }
 
+    /// The byte offset (local) where the 1-based line `line` starts.
+    pub fn line_start(&self, line: usize) -> Option<usize> {
+        let at = self.line_starts.get(line.checked_sub(1)?)?;
+        Some(*at as usize)
+    }
+
     /// The text of the 1-based line `line`, without its newline.
     pub fn line_text(&self, line: usize) -> &str {
         let Some(&start) = self.line_starts.get(line.saturating_sub(1)) else {
