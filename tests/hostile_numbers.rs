@@ -380,3 +380,19 @@ fn many_diagnostics_of_a_large_file_render_in_linear_time() {
     // Generous: about a second now, 41 s (release) before.
     assert!(took.as_secs() < 30, "{took:?}");
 }
+
+/// Item 2: a parameter default out of its type's range, or a string for a
+/// number, is an error at the default; `0` for a boolean and an integer
+/// for a `double` stay accepted (C's conversions, as genom3's compiler).
+#[test]
+fn a_parameter_default_that_its_type_cannot_hold_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "component c {\n  task t { period 10 ms; };\n  function set(in long x = \"str\", in short s = 70000, in double d = 1, in boolean b = 0, in long ok = 5);\n};\n";
+    write(dir.path(), "d.gen", text);
+    let (status, codes, file) = codes(dir.path(), &["--static-only", "d.gen"]);
+    assert_eq!(status, 1);
+    assert_eq!(codes, ["type-mismatch", "type-mismatch"], "{file:#}");
+    let at = |k: usize| file["diagnostics"][k]["span"]["offset"].as_u64().unwrap() as usize;
+    assert_eq!(at(0), text.find("\"str\"").unwrap());
+    assert_eq!(at(1), text.find("70000").unwrap());
+}

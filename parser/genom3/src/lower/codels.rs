@@ -13,8 +13,9 @@ use genom_model::component::genom3::{
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{
     Arg, Call, Codel, CodelId, DataPath, DataRoot, Field, Named, Next, Outcome, Ref, ServiceId,
-    Step, Ty,
+    Step, Ty, Value,
 };
+use genom_model::kinds::BaseType;
 use genom_model::kinds::CodelKind;
 use genom_model::{Code, Span};
 
@@ -333,6 +334,31 @@ impl Ctx<'_> {
 
     /// Checks an initializer against its type: a scalar cannot initialize
     /// a struct or array, and designated members must exist.
+    /// Why the default `e` of a scalar of type `ty` cannot be one: a
+    /// number out of the type's range, or a string for a number or a
+    /// boolean. Other mismatches (an enumerator, `0` for a boolean) are
+    /// left to GenoM3's C compiler, as genom3 does.
+    fn default_misfit(&self, ty: &Ty, e: &ast::Expr) -> Option<String> {
+        let value = self.types.eval(e, &self.scope).ok()?;
+        let numeric =
+            matches!(ty, Ty::Base { base } if base.integer_range().is_some() || base.is_float());
+        match value {
+            Value::Str(_)
+                if numeric
+                    || matches!(
+                        ty,
+                        Ty::Base {
+                            base: BaseType::Boolean
+                        }
+                    ) =>
+            {
+                Some("a string cannot be the default of a number or a boolean".to_owned())
+            }
+            Value::Int(_) | Value::Float(_) if numeric => self.types.fits(ty, value).err(),
+            _ => None,
+        }
+    }
+
     pub(super) fn check_init(&mut self, param: &str, v: &ast::InitValue, ty: &Ty) {
         let resolved = self.types.defs.resolve(ty).clone();
         let fields: Option<Vec<Field>> = self.types.defs.fields(&resolved).map(<[Field]>::to_vec);
@@ -345,6 +371,8 @@ impl Ctx<'_> {
                 if fields.is_some() || matches!(resolved, Ty::Array { .. }) {
                     self.diags
                         .push(diagnostics::scalar_for_compound(param, e.span));
+                } else if let Some(why) = self.default_misfit(&resolved, e) {
+                    self.diags.push(diagnostics::bad_constant(e.span, &why));
                 }
             }
             ast::InitValue::List(items) => {

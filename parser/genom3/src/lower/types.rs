@@ -394,7 +394,7 @@ impl Types {
     /// type's range, a finite number for `float`/`double` (`float`: within
     /// `f32`), a boolean, a one-character `char`, a string. Integers widen
     /// to floating types; other types are not checked here.
-    fn fits(&self, ty: &Ty, v: Value) -> Result<Value, String> {
+    pub(crate) fn fits(&self, ty: &Ty, v: Value) -> Result<Value, String> {
         let resolved = self.defs.resolve(ty);
         let Ty::Base { base } = resolved.clone() else {
             return match (resolved, &v) {
