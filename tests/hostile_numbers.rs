@@ -396,3 +396,36 @@ fn a_parameter_default_that_its_type_cannot_hold_is_an_error() {
     assert_eq!(at(0), text.find("\"str\"").unwrap());
     assert_eq!(at(1), text.find("70000").unwrap());
 }
+
+/// Item 15: include expansion never looked at the clock; a diamond of
+/// unguarded includes (2^40 inclusions here) now stops at `--timeout` with
+/// `incomplete`, like parsing.
+#[test]
+fn a_diamond_of_unguarded_includes_stops_at_the_time_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 40;
+    for k in 0..n {
+        let text = if k + 1 < n {
+            format!("#include \"f{}.h\"\n#include \"f{}.h\"\n", k + 1, k + 1)
+        } else {
+            format!("const long z{k} = 1;\n")
+        };
+        write(dir.path(), &format!("f{k}.h"), &text);
+    }
+    write(
+        dir.path(),
+        "main.gen",
+        "#include \"f0.h\"\ncomponent c {\n  task t { period 10 ms; };\n};\n",
+    );
+    let started = std::time::Instant::now();
+    let (status, codes, file) = codes(dir.path(), &["--timeout", "2s", "main.gen"]);
+    // Generous: it never ended before.
+    assert!(started.elapsed().as_secs() < 60, "{:?}", started.elapsed());
+    assert_eq!(status, 1);
+    assert_eq!(codes, ["incomplete"], "{file:#}");
+    let message = file["diagnostics"][0]["message"].as_str().unwrap();
+    assert!(
+        message.contains("time limit (--timeout) was reached while parsing"),
+        "{message}"
+    );
+}

@@ -137,6 +137,19 @@ impl Session<'_> {
         inc: &Include,
         defines: &mut preprocess::Macros,
     ) -> Option<FileId> {
+        // Expanding includes looks at the clock and the memory too: a chain
+        // of thousands of files, or a diamond of unguarded includes (2^n
+        // inclusions), stops at the limit like parsing does.
+        if self.stopped {
+            return None;
+        }
+        if let Some(limit) = self.watch.exceeded() {
+            self.stopped = true;
+            self.out
+                .diagnostics
+                .push(genom_model::limits::parsing_stopped(inc.span, limit));
+            return None;
+        }
         let mut searched = Vec::new();
         let mut found = None;
         let written = Path::new(&inc.path);
