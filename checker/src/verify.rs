@@ -349,16 +349,10 @@ fn attach_codel_overrun_traces(
     facts: &crate::timed::TimedFacts,
     diagnostics: &mut [Diagnostic],
 ) {
-    for d in diagnostics
-        .iter_mut()
-        .filter(|d| d.code == Code::CodelOverrun && d.trace.is_none())
-    {
-        let found = facts
-            .codel_overruns
-            .iter()
-            .find(|o| c.codels[o.codel].wcet.is_some_and(|w| w.span == d.span()));
-        if let Some(o) = found {
-            d.trace = Some(o.trace.clone());
-        }
-    }
+    let traces: Vec<_> = facts
+        .codel_overruns
+        .iter()
+        .filter_map(|o| Some((c.codels[o.codel].wcet?.span, o.trace.clone())))
+        .collect();
+    crate::checks::codel_overrun::attach_traces(&traces, diagnostics);
 }

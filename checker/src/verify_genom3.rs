@@ -44,7 +44,7 @@ impl Genom3Verdicts {
     /// Gives each `codel-overrun` among `diagnostics` (the static stage's)
     /// the trace the timed engine found for its codel.
     pub fn attach_codel_overrun_traces(&self, diagnostics: &mut [Diagnostic]) {
-        codel_overrun::attach_genom3_traces(&self.long_codels, diagnostics);
+        codel_overrun::attach_traces(&self.long_codels, diagnostics);
     }
 }
 
@@ -82,7 +82,8 @@ pub fn verify_genom3(
         analysis.stopped.is_none(),
     )];
     let mut long_codels = Vec::new();
-    if gives_timing(&m) {
+    let timed = gives_timing(&m);
+    if timed {
         match analyse_timing(&m, options.limits(started)) {
             Some(timing) => {
                 decided_by.push(Decision::new(
@@ -110,7 +111,7 @@ pub fn verify_genom3(
         }
     }
     let mut response_times = Vec::new();
-    if !gives_timing(&m) {
+    if !timed {
         out.extend(
             options
                 .deadline_ids(c)
@@ -140,7 +141,7 @@ pub fn verify_genom3(
         decided_by,
         // Timing depends on how many requests run at once (F4); the
         // untimed verdicts do not (section 14.3 of docs/genom3-semantics.md).
-        assumptions: if gives_timing(&m) {
+        assumptions: if timed {
             vec![Assumption::instances(
                 m.max_instances,
                 m.has_self_interrupts(),

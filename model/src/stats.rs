@@ -83,6 +83,13 @@ impl Assumption {
 }
 
 impl Statistics {
+    /// The texts of the assumptions joined by `; `, as they follow
+    /// "assuming" (`None` when the verdicts rest on nothing else).
+    pub fn assumed(&self) -> Option<String> {
+        let texts: Vec<&str> = self.assumptions.iter().map(|a| a.text.as_str()).collect();
+        (!texts.is_empty()).then(|| texts.join("; "))
+    }
+
     /// The engines that decided, in a fixed order, joined by `+`:
     /// `explicit`, `symbolic`, `explicit+symbolic`, `zones`.
     pub fn engines(&self) -> String {

@@ -250,13 +250,9 @@ pub(super) fn summary_line(report: &FileReport<'_>) -> String {
 /// does not say (a WCET file, an instance bound), control characters
 /// escaped.
 pub(super) fn assumptions(report: &FileReport<'_>) -> Option<String> {
-    let all = &report.statistics?.assumptions;
-    if all.is_empty() {
-        return None;
-    }
-    let texts: Vec<&str> = all.iter().map(|a| a.text.as_str()).collect();
+    let assumed = report.statistics?.assumed()?;
     // The WCET file's name comes from outside.
-    Some(format!("assuming {}", escaped(&texts.join("; "))))
+    Some(format!("assuming {}", escaped(&assumed)))
 }
 
 /// `, symbolic` when the symbolic engine decided some part (the explicit

@@ -59,18 +59,14 @@ pub fn by_file(
 /// What the verdicts rest on (a WCET file, an instance bound), as an
 /// information at the component's name.
 fn assumptions(result: &CheckResult, target: &Target<'_>) -> Option<lsp_types::Diagnostic> {
-    let all = &result.statistics.as_ref()?.assumptions;
+    let assumed = result.statistics.as_ref()?.assumed()?;
     let c = result.component.as_ref()?;
-    if all.is_empty() {
-        return None;
-    }
     let (_, range) = target.place(&result.sources, c.name.span)?;
-    let texts: Vec<&str> = all.iter().map(|a| a.text.as_str()).collect();
     Some(lsp_types::Diagnostic {
         range,
         severity: Some(DiagnosticSeverity::INFORMATION),
         source: Some("genom-check".to_owned()),
-        message: format!("the verdicts assume {}", texts.join("; ")),
+        message: format!("the verdicts assume {assumed}"),
         ..lsp_types::Diagnostic::default()
     })
 }

@@ -95,7 +95,7 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
 /// activity) whose WCET, from the WCET file, exceeds its task's period.
 /// One diagnostic per codel, however many states it runs in; the primary
 /// label is the codel in the `.gen`, where it is fixed. The timed GenoM3
-/// engine gives it a trace ([`attach_genom3_traces`]).
+/// engine gives it a trace ([`attach_traces`]).
 fn check_genom3(c: &Component, g: &Genom3Info) -> Vec<Diagnostic> {
     let mut seen = BTreeSet::new();
     let mut out = Vec::new();
@@ -161,10 +161,10 @@ pub fn genom3_traces(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<(Span, Tra
         .collect()
 }
 
-/// Gives each GenoM3 `codel-overrun` the trace of its codel among
-/// `traces` ([`genom3_traces`]); a codel that no execution runs keeps
-/// none.
-pub fn attach_genom3_traces(traces: &[(Span, Trace)], diagnostics: &mut [Diagnostic]) {
+/// Gives each `codel-overrun` without a trace the trace whose span holds
+/// its primary label (the codel's WCET in LANGUAGE.md, the FSM codel in
+/// GenoM3, [`genom3_traces`]); a codel that no execution runs keeps none.
+pub fn attach_traces(traces: &[(Span, Trace)], diagnostics: &mut [Diagnostic]) {
     for d in diagnostics
         .iter_mut()
         .filter(|d| d.code == Code::CodelOverrun && d.trace.is_none())

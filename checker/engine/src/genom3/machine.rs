@@ -368,8 +368,12 @@ impl<'a> Machine<'a> {
     /// so `max_instances` running instances and one request interrupting
     /// them live at once.
     pub fn instance_bound(&self, a: usize) -> usize {
-        let own = self.activities[a].interrupts.contains(&a);
-        (self.max_instances + usize::from(own)).min(self.pool - 1)
+        (self.max_instances + usize::from(self.interrupts_itself(a))).min(self.pool - 1)
+    }
+
+    /// Whether activity `a` lists itself in its `interrupts`.
+    fn interrupts_itself(&self, a: usize) -> bool {
+        self.activities[a].interrupts.contains(&a)
     }
 
     /// Slots per activity in a packed state: the largest
@@ -384,7 +388,7 @@ impl<'a> Machine<'a> {
     /// Whether some activity interrupts itself (explored with one more
     /// instance, [`Machine::instance_bound`]).
     pub fn has_self_interrupts(&self) -> bool {
-        (0..self.activities.len()).any(|a| self.activities[a].interrupts.contains(&a))
+        (0..self.activities.len()).any(|a| self.interrupts_itself(a))
     }
 
     /// The name of service `s`.

@@ -140,13 +140,18 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
 
 /// A codel of task `t` longer than its period, still running in `st`.
 fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
-    let m = te.m();
+    te.instances(&st.g, t)
+        .into_iter()
+        .filter(|(_, i)| i.has(mark::BUSY))
+        .find_map(|(who, i)| longer_than_period(te.m(), t, who, i.state))
+}
+
+/// [`Cause::LongCodel`] when the codel of `who` in `state` (a codel of
+/// task `t`) has a WCET longer than `t`'s period.
+fn longer_than_period(m: &Machine<'_>, t: usize, who: Who, state: u8) -> Option<Cause> {
     let period = m.tasks[t].period_ns?;
-    te.instances(&st.g, t).into_iter().find_map(|(who, i)| {
-        let owner = who.owner();
-        let wcet = m.fsm(owner).states[usize::from(i.state)].wcet_ns?;
-        (i.has(mark::BUSY) && wcet > period).then_some(Cause::LongCodel(owner, i.state))
-    })
+    let wcet = m.fsm(who.owner()).states[usize::from(state)].wcet_ns?;
+    (wcet > period).then_some(Cause::LongCodel(who.owner(), state))
 }
 
 /// The cause of the violation of task `t` that `path` ends with, read off
@@ -163,12 +168,9 @@ fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
     let wake = &path[from..];
     // A codel longer than the period that ran in the wake-up is the cause
     // (though it ended, what followed it could not fit).
-    let period = m.tasks[t].period_ns.unwrap_or(u64::MAX);
     let long = wake.iter().find_map(|a| match *a {
         TG3Action::Begin(who, v) if mine(who) => {
-            let i = Inst::unpack(v)?;
-            let wcet = m.fsm(who.owner()).states[usize::from(i.state)].wcet_ns?;
-            (wcet > period).then_some(Cause::LongCodel(who.owner(), i.state))
+            longer_than_period(m, t, who, Inst::unpack(v)?.state)
         }
         _ => None,
     });
