@@ -239,7 +239,7 @@ pub fn verify(
 ) -> Verdicts {
     let mut component = None;
     if let Some(model) = model {
-        diagnostics.extend(crate::checks::run(&model));
+        diagnostics.extend(crate::checks::run(&model, &options.watch(started)));
         component = has_component.then_some(model);
     }
     // A codel longer than its period leaves the model well formed: the

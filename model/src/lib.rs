@@ -10,6 +10,7 @@ pub mod dialect;
 pub mod kinds;
 pub mod limits;
 pub mod loader;
+pub mod nesting;
 pub mod petri;
 pub mod render;
 pub mod response;

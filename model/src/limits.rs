@@ -174,6 +174,29 @@ pub fn parsing_stopped(at: Span, limit: Limit) -> Diagnostic {
     ))
 }
 
+/// A limit passed during the static checks, at the component's name:
+/// `left` names the checks that did not run; nothing behavioural ran
+/// either.
+pub fn static_stopped(at: Span, limit: Limit, left: &[&str]) -> Diagnostic {
+    let raise = match limit {
+        Limit::Time => "--timeout",
+        Limit::Memory => "--max-memory",
+    };
+    Diagnostic::new(
+        Code::Incomplete,
+        format!(
+            "verification is incomplete: the {} was reached during the static checks",
+            limit.describe()
+        ),
+        at,
+        "not fully verified",
+    )
+    .with_help(format!(
+        "not checked: {}, and every behavioural property; raise {raise}",
+        left.join(", ")
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -60,17 +60,6 @@ pub fn unterminated_comment(span: Span) -> Diagnostic {
     .with_help("close the comment with `*/`; block comments do not nest")
 }
 
-/// `syntax`: brackets nested beyond the supported depth.
-pub fn too_deep(span: Span, limit: usize) -> Diagnostic {
-    Diagnostic::new(
-        Code::Syntax,
-        format!("nesting deeper than {limit} levels"),
-        span,
-        "this bracket is nested too deeply",
-    )
-    .with_help("no component needs this much nesting; is a closing bracket missing?")
-}
-
 /// `syntax`: recovery gave up after too many errors in one file.
 pub fn too_many_errors(span: Span, count: usize) -> Diagnostic {
     Diagnostic::new(

@@ -280,11 +280,11 @@ impl Session<'_> {
             return Vec::new();
         };
         let (text, base) = (source.text.clone(), source.base);
-        if let Some(at) = syntax::excessive_nesting(&text) {
+        if let Some(at) = genom_model::nesting::excessive_nesting(&text, MAX_NESTING) {
             let span = Span::new(base + to_u32(at), base + to_u32(at) + 1);
             self.out
                 .diagnostics
-                .push(diagnostics::too_deep(span, MAX_NESTING));
+                .push(genom_model::nesting::too_deep(span, MAX_NESTING));
             return Vec::new();
         }
         let rule = if is_idl {

@@ -125,7 +125,7 @@ pub fn convert(error: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, usize
     // `excessive_nesting` cannot see (`- - - 1`, `sequence/**/<`).
     if let ErrorVariant::CustomError { .. } = &error.variant {
         return (
-            diagnostics::too_deep(Span::new(at(pos), at(pos + token_len)), MAX_NESTING),
+            genom_model::nesting::too_deep(Span::new(at(pos), at(pos + token_len)), MAX_NESTING),
             pos,
         );
     }
@@ -323,74 +323,6 @@ fn starts_item(line: &str) -> bool {
     }
 }
 
-/// Finds the first bracket nested deeper than [`MAX_NESTING`], skipping
-/// comments and strings. Returns its local byte offset. A `<` opens a level
-/// only after `sequence` or `string` (comments in between included), and a
-/// run of `-` (unary minus, `- - - 1`) nests like brackets.
-pub fn excessive_nesting(text: &str) -> Option<usize> {
-    let bytes = text.as_bytes();
-    let mut depth = 0usize;
-    // The previous token was `sequence` or `string`.
-    let mut after_type_keyword = false;
-    // Consecutive `-` tokens.
-    let mut minus_run = 0usize;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i = text[i + 2..]
-                    .find("*/")
-                    .map_or(bytes.len(), |j| i + 2 + j + 2);
-                continue;
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                i = text[i..].find('\n').map_or(bytes.len(), |j| i + j);
-                continue;
-            }
-            b' ' | b'\t' | b'\r' | b'\n' => {
-                i += 1;
-                continue;
-            }
-            b'"' => {
-                i = skip_string(bytes, i + 1);
-                after_type_keyword = false;
-                minus_run = 0;
-                continue;
-            }
-            b if b.is_ascii_alphabetic() || b == b'_' => {
-                let len = bytes[i..]
-                    .iter()
-                    .take_while(|b| b.is_ascii_alphanumeric() || **b == b'_')
-                    .count();
-                after_type_keyword = matches!(&text[i..i + len], "sequence" | "string");
-                minus_run = 0;
-                i += len;
-                continue;
-            }
-            b'-' => {
-                minus_run += 1;
-                after_type_keyword = false;
-                if depth + minus_run > MAX_NESTING {
-                    return Some(i);
-                }
-                i += 1;
-                continue;
-            }
-            b'{' | b'(' | b'[' => depth += 1,
-            b'<' if after_type_keyword => depth += 1,
-            b'}' | b')' | b']' | b'>' => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-        after_type_keyword = false;
-        minus_run = 0;
-        if depth > MAX_NESTING {
-            return Some(i);
-        }
-        i += 1;
-    }
-    None
-}
-
 fn skip_string(bytes: &[u8], mut i: usize) -> usize {
     while i < bytes.len() {
         match bytes[i] {
@@ -434,25 +366,5 @@ mod tests {
         assert!(!starts_item("  export: T x;"));
         assert!(starts_item("init service setup {"));
         assert!(starts_item("#include \"a.idl\""));
-    }
-
-    #[test]
-    fn nesting_limit_ignores_comments_and_strings() {
-        let deep = "{".repeat(MAX_NESTING + 1);
-        assert_eq!(excessive_nesting(&deep), Some(MAX_NESTING));
-        let hidden = format!("/* {deep} */ \"{deep}\"");
-        assert_eq!(excessive_nesting(&hidden), None);
-        let seq = "sequence<".repeat(MAX_NESTING + 1);
-        assert!(excessive_nesting(&seq).is_some());
-        assert_eq!(excessive_nesting("credentials: a < b < c < d;"), None);
-        let commented = "sequence /* c */ <".repeat(MAX_NESTING + 1);
-        assert!(excessive_nesting(&commented).is_some());
-        let minus = format!("const long N = {}1;", "- ".repeat(MAX_NESTING + 1));
-        assert!(excessive_nesting(&minus).is_some());
-        assert_eq!(
-            excessive_nesting("thread t { max-time: -1s; } const long x = 1 - -2;"),
-            None
-        );
-        assert_eq!(excessive_nesting("typedef mystring<"), None);
     }
 }

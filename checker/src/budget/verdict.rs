@@ -36,7 +36,11 @@ pub struct Verdict {
 /// untimed one for a component without timing) with the timing and
 /// behavioural verdicts.
 pub fn verdict(c: &Component, limits: Limits) -> Verdict {
-    let mut diagnostics = crate::checks::run(c);
+    let watch = genom_model::limits::Watch {
+        deadline: limits.deadline,
+        max_memory: limits.max_bytes,
+    };
+    let mut diagnostics = crate::checks::run(c, &watch);
     let mut explored = false;
     let mut reached = BTreeSet::new();
     if !diagnostics.iter().any(|d| d.severity == Severity::Error) {

@@ -8,6 +8,8 @@
 //! command, a device stays open. It is advice because ending at once is
 //! sometimes exactly what is wanted (a codel that only reads).
 
+use std::collections::BTreeMap;
+
 use genom_model::component::{Component, ServiceId};
 use genom_model::kinds::CodelKind;
 use genom_model::{Code, Diagnostic, Span};
@@ -84,22 +86,26 @@ pub fn missing(service: &str, codel: &str, span: Span, why: Interrupter<'_>) -> 
     ))
 }
 
-/// What makes `service` interruptible: the first `stops` reference naming
-/// it (services in order), else its own `max-time`.
-fn interrupter(c: &Component, service: ServiceId) -> Option<Interrupter<'_>> {
-    let stopped = c.services.iter().find_map(|(id, s)| {
-        let r = s.stops.iter().find(|r| r.id == service)?;
-        Some(Interrupter::Stops {
-            by: s.name.name.as_str(),
-            itself: id == service,
-            span: r.span,
-        })
-    });
-    stopped.or_else(|| {
-        c.services[service]
-            .max_time
-            .map(|m| Interrupter::MaxTime(m.span))
-    })
+/// What makes each service interruptible: the first service (in order)
+/// that lists it in `stops`, else its own `max-time`. One pass over every
+/// `stops` list, not one per service.
+fn interrupters(c: &Component) -> BTreeMap<ServiceId, Interrupter<'_>> {
+    let mut out = BTreeMap::new();
+    for (id, s) in c.services.iter() {
+        for r in &s.stops {
+            out.entry(r.id).or_insert(Interrupter::Stops {
+                by: s.name.name.as_str(),
+                itself: id == r.id,
+                span: r.span,
+            });
+        }
+    }
+    for (id, s) in c.services.iter() {
+        if let Some(m) = s.max_time {
+            out.entry(id).or_insert(Interrupter::MaxTime(m.span));
+        }
+    }
+    out
 }
 
 /// Reports every start and exec codel without `on-inter` of every
@@ -114,11 +120,12 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     if c.genom3.is_some() {
         return out;
     }
+    let interrupters = interrupters(c);
     for (id, service) in c.services.iter() {
         if service.start.is_none() {
             continue;
         }
-        let Some(why) = interrupter(c, id) else {
+        let Some(&why) = interrupters.get(&id) else {
             continue;
         };
         for &cid in &service.codels {

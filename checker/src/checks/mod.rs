@@ -42,24 +42,47 @@ pub mod update_rules;
 
 use genom_model::Diagnostic;
 use genom_model::component::Component;
+use genom_model::limits::Watch;
 
 use crate::engine::Analysis;
 use crate::timed::TimedFacts;
 
-/// Runs every check on the resolved model.
-pub fn run(component: &Component) -> Vec<Diagnostic> {
+/// A static check: the model in, its findings out.
+type StaticCheck = fn(&Component) -> Vec<Diagnostic>;
+
+/// The static checks, in the order they run, with the words that name
+/// them when a limit stops the phase before them.
+const STATIC_CHECKS: [(&str, StaticCheck); 11] = [
+    ("recursive types", recursive_type::check),
+    ("codel prototypes", prototype_mismatch::check),
+    ("update rules", update_rules::check),
+    ("codel reachability", unreachable_codel::check),
+    ("termination", no_termination::check),
+    ("auto services", auto_terminates::check),
+    ("unused reports", unused_report::check),
+    ("on-inter cleanup", missing_on_inter::check),
+    ("privilege escalation", privilege_escalation::check),
+    ("codel overruns", codel_overrun::check),
+    ("missing WCETs", missing_wcet::check),
+];
+
+/// Runs every check on the resolved model. Each is linear in the model
+/// (plus what it reports); `watch` is looked at between two checks, and a
+/// limit passed ends the phase with `incomplete` naming the checks left.
+pub fn run(component: &Component, watch: &Watch) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    out.extend(recursive_type::check(component));
-    out.extend(prototype_mismatch::check(component));
-    out.extend(update_rules::check(component));
-    out.extend(unreachable_codel::check(component));
-    out.extend(no_termination::check(component));
-    out.extend(auto_terminates::check(component));
-    out.extend(unused_report::check(component));
-    out.extend(missing_on_inter::check(component));
-    out.extend(privilege_escalation::check(component));
-    out.extend(codel_overrun::check(component));
-    out.extend(missing_wcet::check(component));
+    for (i, (_, check)) in STATIC_CHECKS.iter().enumerate() {
+        if let Some(limit) = watch.exceeded() {
+            let left: Vec<&str> = STATIC_CHECKS[i..].iter().map(|(name, _)| *name).collect();
+            out.push(genom_model::limits::static_stopped(
+                component.name.span,
+                limit,
+                &left,
+            ));
+            break;
+        }
+        out.extend(check(component));
+    }
     out
 }
 
@@ -80,4 +103,33 @@ pub fn timing(component: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {
     let mut out = thread_overrun::check(component, facts);
     out.extend(max_time::check(component, facts));
     out
+}
+
+#[cfg(test)]
+mod watch_tests {
+    use super::*;
+    use genom_model::Code;
+
+    #[test]
+    fn a_limit_passed_stops_the_static_phase_naming_what_is_left() {
+        let c = Component::default();
+        let watch = Watch {
+            deadline: Some(std::time::Instant::now()),
+            max_memory: usize::MAX,
+        };
+        let found = run(&c, &watch);
+        assert_eq!(found.len(), 1);
+        assert_eq!(found[0].code, Code::Incomplete);
+        assert!(found[0].message.contains("during the static checks"));
+        let help = found[0].help.as_deref().unwrap_or_default();
+        assert!(
+            help.contains("recursive types") && help.contains("missing WCETs"),
+            "{help}"
+        );
+        assert!(
+            run(&c, &Watch::unlimited())
+                .iter()
+                .all(|d| d.code != Code::Incomplete)
+        );
+    }
 }

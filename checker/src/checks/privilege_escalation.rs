@@ -16,7 +16,9 @@
 //! `S` could still interrupt, hold back or block `S`, or change what it
 //! computes with, through `W`.
 
-use genom_model::component::{Component, DataPath, Ref, Service, ServiceId};
+use std::collections::{BTreeMap, BTreeSet};
+
+use genom_model::component::{Component, DataPath, Ref, Service, ServiceId, StructureId};
 use genom_model::{Code, Diagnostic, Span};
 
 /// `genom-check explain privilege-escalation`.
@@ -201,10 +203,21 @@ fn overlap(a: &DataPath, b: &DataPath) -> bool {
         && (a.steps.starts_with(&b.steps) || b.steps.starts_with(&a.steps))
 }
 
+/// What each service reads and writes, computed once.
+struct Uses<'a> {
+    reads: Vec<&'a DataPath>,
+    writes: Vec<&'a DataPath>,
+}
+
 /// The escalations of `weak` over `strong`, in order: `stops`, `delays`,
 /// `forbids`, then data.
-fn escalations(c: &Component, weak: &Service, strong: (ServiceId, &Service)) -> Vec<Diagnostic> {
-    let (sid, s) = strong;
+fn escalations(
+    c: &Component,
+    weak: (&Service, &Uses<'_>),
+    strong: (ServiceId, &Service, &Uses<'_>),
+) -> Vec<Diagnostic> {
+    let (weak, weak_uses) = weak;
+    let (sid, s, strong_uses) = strong;
     let (w_side, s_side) = (side(c, weak, false), side(c, s, true));
     let mut out: Vec<Diagnostic> = [Relation::Stops, Relation::Delays, Relation::Forbids]
         .into_iter()
@@ -213,10 +226,11 @@ fn escalations(c: &Component, weak: &Service, strong: (ServiceId, &Service)) -> 
             Some(controls(w_side, s_side, rel, r.span))
         })
         .collect();
-    let reads = data_used(c, s, false);
-    let pair = data_used(c, weak, true)
-        .into_iter()
-        .find_map(|w| Some((w, *reads.iter().find(|r| overlap(w, r))?)));
+    let reads = &strong_uses.reads;
+    let pair = weak_uses
+        .writes
+        .iter()
+        .find_map(|w| Some((*w, *reads.iter().find(|r| overlap(w, r))?)));
     if let Some((written, read)) = pair {
         out.push(writes_input(w_side, s_side, written, read));
     }
@@ -224,13 +238,54 @@ fn escalations(c: &Component, weak: &Service, strong: (ServiceId, &Service)) -> 
 }
 
 /// Reports every pair of services where the one with the weaker credential
-/// controls the other, in service order.
+/// controls the other, in service order. Only the pairs that can escalate
+/// are looked at (a service the weaker one names, or one that reads a
+/// structure it writes), so the check is linear in the component plus
+/// what it reports, not quadratic in the number of services.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
+    let uses: BTreeMap<ServiceId, Uses<'_>> = c
+        .services
+        .iter()
+        .map(|(id, s)| {
+            let u = Uses {
+                reads: data_used(c, s, false),
+                writes: data_used(c, s, true),
+            };
+            (id, u)
+        })
+        .collect();
+    let mut readers: BTreeMap<StructureId, BTreeSet<ServiceId>> = BTreeMap::new();
+    for (&id, u) in &uses {
+        for structure in u.reads.iter().filter_map(|d| d.structure()) {
+            readers.entry(structure).or_default().insert(id);
+        }
+    }
     let mut out = Vec::new();
-    for weak in c.services.values() {
-        for (sid, strong) in c.services.iter() {
+    for (wid, weak) in c.services.iter() {
+        let Some(weak_uses) = uses.get(&wid) else {
+            continue;
+        };
+        let named = [Relation::Stops, Relation::Delays, Relation::Forbids]
+            .into_iter()
+            .flat_map(|rel| rel.refs(weak).iter().map(|r| r.id));
+        let reading = weak_uses
+            .writes
+            .iter()
+            .filter_map(|d| d.structure())
+            .filter_map(|s| readers.get(&s))
+            .flatten()
+            .copied();
+        let candidates: BTreeSet<ServiceId> = named.chain(reading).collect();
+        for sid in candidates {
+            let (Some(strong), Some(strong_uses)) = (c.services.get(sid), uses.get(&sid)) else {
+                continue;
+            };
             if weak.credential < strong.credential {
-                out.extend(escalations(c, weak, (sid, strong)));
+                out.extend(escalations(
+                    c,
+                    (weak, weak_uses),
+                    (sid, strong, strong_uses),
+                ));
             }
         }
     }

@@ -233,7 +233,7 @@ pub fn load_watched(
     let root = FileId(0);
     let builtin =
         FileId(u32::try_from(loaded.sources.files().count().saturating_sub(1)).unwrap_or(0));
-    let lowered = lower::lower(&loaded.ast, builtin);
+    let lowered = lower::lower(&loaded.ast, builtin, &watch);
     let mut diagnostics = loaded.diagnostics;
     // With a file missing or unparsed, names it would define are unknown:
     // report only what stops the load, not the cascade.

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use genom_model::limits::Watch;
+use genom_model::nesting;
 use genom_model::{Diagnostic, FileId, SourceMap, Span};
 use pest::Parser as _;
 
@@ -54,6 +55,14 @@ struct Session<'a> {
 
 /// How much text is parsed between two looks at the clock and the heap: a
 /// file smaller than this is always read whole.
+/// Deepest bracket nesting accepted (modules, structs, parentheses,
+/// `sequence<…>`), checked over a whole file before it is parsed. Real
+/// components nest fewer than ten levels; the bound keeps every recursive
+/// step (parsing, building, lowering, rendering) far from the stack's end
+/// and its memory linear. Constant expressions have their own, lower bound
+/// (256 parentheses, see the builder).
+pub const MAX_NESTING: usize = 1024;
+
 const CLOCK_BYTES: usize = 64 * 1024;
 
 #[derive(Default)]
@@ -121,7 +130,17 @@ impl Session<'_> {
         });
         self.out.pragmas.extend(scanned.pragmas);
         self.out.diagnostics.extend(scanned.diagnostics);
-        let statements = self.parse(&scanned.text, base);
+        let statements = match nesting::excessive_nesting(&scanned.text, MAX_NESTING) {
+            Some(at) => {
+                let at = base + u32::try_from(at).unwrap_or(u32::MAX);
+                let span = Span::new(at, at.saturating_add(1));
+                self.out
+                    .diagnostics
+                    .push(nesting::too_deep(span, MAX_NESTING));
+                Vec::new()
+            }
+            None => self.parse(&scanned.text, base),
+        };
         self.files.insert(
             id,
             FileParts {

@@ -110,6 +110,22 @@ pub(crate) fn error(err: &Error<Rule>, text: &str, base: u32) -> (Diagnostic, us
             format!("expected {} or {last}, found {found}", init.join(", "))
         }
     };
+    // genom3 reads `>>` as the shift operator, also after a type
+    // parameter (`sequence<sequence<long>>`): say how to write it.
+    let closes_two =
+        expected.iter().any(|w| w == "`>`") && text.get(pos..).is_some_and(|r| r.starts_with(">>"));
+    if closes_two {
+        let start = base + u32::try_from(pos).unwrap_or(u32::MAX);
+        let span = Span::new(start, start + 2);
+        return (
+            diagnostics::syntax(
+                span,
+                "`>>` is the shift operator: two type parameters close with `> >`".to_owned(),
+                "write `> >` here".to_owned(),
+            ),
+            pos,
+        );
+    }
     let start = base + u32::try_from(pos).unwrap_or(u32::MAX);
     let len = token_len(text, pos);
     let span = Span::new(start, start + u32::try_from(len).unwrap_or(0));

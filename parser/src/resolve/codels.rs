@@ -26,6 +26,10 @@ impl Resolver {
                 continue;
             }
             let cid = self.c.codels.push(empty_codel(id, c));
+            self.names
+                .codels
+                .entry((id, c.name.name.clone()))
+                .or_insert(cid);
             let svc = &mut self.c.services[id];
             svc.codels.push(cid);
             match c.kind {
@@ -38,12 +42,17 @@ impl Resolver {
         out
     }
 
+    /// The codel of `service` named `name` (the first of that name).
+    fn codel_named(&self, service: ServiceId, name: &str) -> Option<CodelId> {
+        self.names.codels.get(&(service, name.to_owned())).copied()
+    }
+
     fn codel_name_is_free(&mut self, id: ServiceId, c: &ast::Codel) -> bool {
         let svc = &self.c.services[id];
         let existing = match c.kind {
             CodelKind::Start => svc.start,
             CodelKind::Control => svc.control,
-            CodelKind::Exec | CodelKind::Inter => self.c.codel_named(id, &c.name.name),
+            CodelKind::Exec | CodelKind::Inter => self.codel_named(id, &c.name.name),
         };
         let Some(first) = existing.map(|e| self.c.codels[e].name.span) else {
             if c.name.name == "end" {
@@ -173,7 +182,7 @@ impl Resolver {
             return None;
         }
         let service = self.c.codels[cid].service;
-        let Some(found) = self.c.codel_named(service, &target.name) else {
+        let Some(found) = self.codel_named(service, &target.name) else {
             let candidates = self.codel_names(service, |k| k == CodelKind::Inter);
             self.report(unknown_name::unknown_inter_codel(
                 &target.name,
@@ -231,7 +240,7 @@ impl Resolver {
         if name.name == "end" {
             return Some(Outcome::End);
         }
-        if let Some(target) = self.c.codel_named(service, &name.name) {
+        if let Some(target) = self.codel_named(service, &name.name) {
             if self.c.codels[target].kind == CodelKind::Control {
                 self.report(codel_transitions::next_to_control(name.span));
                 return None;

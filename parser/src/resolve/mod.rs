@@ -84,6 +84,9 @@ pub(crate) struct Names {
     services: BTreeMap<String, ServiceId>,
     /// Export and import items by kind and item name.
     items: BTreeMap<(genom_model::kinds::DataKind, String), StructureId>,
+    /// Codels by service and name (the first declared of each name), so
+    /// that a long chain of `next` resolves in linear time.
+    codels: BTreeMap<(ServiceId, String), genom_model::component::CodelId>,
 }
 
 #[derive(Debug)]

@@ -180,20 +180,28 @@ fn async_sharing(ctx: &mut Ctx<'_>, machines: &[(String, Span, Vec<FsmCodel>, Op
 }
 
 /// The codels (indices) reached from the codel running in state `from`,
-/// following yields.
+/// following yields: linear in the machine's size (up to the index's log).
 fn reachable(codels: &[FsmCodel], from: &str) -> BTreeSet<usize> {
-    let owner = |state: &str| {
-        codels
-            .iter()
-            .position(|c| c.states.iter().any(|x| x.name == state))
-    };
+    // The first codel running in each state, as a linear search would find.
+    let mut owner: BTreeMap<&str, usize> = BTreeMap::new();
+    for (i, c) in codels.iter().enumerate() {
+        for s in &c.states {
+            owner.entry(s.name.as_str()).or_insert(i);
+        }
+    }
     let mut seen = BTreeSet::new();
-    let mut queue: VecDeque<usize> = owner(from).into_iter().collect();
+    let mut queue: VecDeque<usize> = owner.get(from).copied().into_iter().collect();
     while let Some(i) = queue.pop_front() {
         if !seen.insert(i) {
             continue;
         }
-        queue.extend(codels[i].yields.iter().filter_map(|y| owner(&y.state.name)));
+        queue.extend(
+            codels[i]
+                .yields
+                .iter()
+                .filter_map(|y| owner.get(y.state.name.as_str()).copied())
+                .filter(|j| !seen.contains(j)),
+        );
     }
     seen
 }

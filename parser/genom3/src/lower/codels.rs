@@ -12,8 +12,8 @@ use genom_model::component::genom3::{
 };
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{
-    Arg, Call, Codel, CodelId, DataPath, DataRoot, Field, Named, Next, Outcome, Ref, ServiceId,
-    Step, Ty, Value,
+    Arg, Call, Codel, CodelId, DataPath, DataRoot, Field, Idx as _, Named, Next, Outcome, Ref,
+    ServiceId, Step, Ty, Value,
 };
 use genom_model::kinds::BaseType;
 use genom_model::kinds::CodelKind;
@@ -511,7 +511,14 @@ impl Ctx<'_> {
         let stop = by_state.get("stop").copied();
         let codels = self.c.services[id].codels.clone();
         for codel in codels {
-            let Some(info) = self.g.codels.iter().find(|i| i.codel == codel) else {
+            // Codels are pushed to the model and to `g.codels` together:
+            // a codel's index is its place in both.
+            let Some(info) = self
+                .g
+                .codels
+                .get(codel.index())
+                .filter(|i| i.codel == codel)
+            else {
                 continue;
             };
             let next: Vec<Next> = info

@@ -14,6 +14,7 @@ mod types;
 use std::collections::BTreeMap;
 
 use genom_model::component::Component;
+use genom_model::limits::Watch;
 use genom_model::{Diagnostic, FileId};
 
 use crate::ast::{self, Ast, Export, Statement};
@@ -43,7 +44,7 @@ pub(crate) fn closest_hint<'a>(
 
 /// Lowers every statement. `builtin` is the file of the built-in `genom`
 /// interface (its interface does not make a file interface-only).
-pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
+pub fn lower(ast: &Ast, builtin: FileId, watch: &Watch) -> LowerReturn {
     let mut types = Types::default();
     let mut components: Vec<&ast::Component> = Vec::new();
     let mut interfaces: BTreeMap<String, &ast::Component> = BTreeMap::new();
@@ -121,8 +122,22 @@ pub fn lower(ast: &Ast, builtin: FileId) -> LowerReturn {
     let mut component = None;
     if let Some(target) = target {
         let mut ctx = component::Ctx::new(types, &interfaces);
-        ctx.component(target);
-        checks::run(&mut ctx);
+        // The watch is looked at before each step (lowering the component,
+        // its static checks), each linear in the component.
+        let stopped = |step: &[&str]| {
+            watch
+                .exceeded()
+                .map(|limit| genom_model::limits::static_stopped(target.name.span, limit, step))
+        };
+        if let Some(d) = stopped(&["the component's resolution", "the static checks"]) {
+            ctx.diags.push(d);
+        } else {
+            ctx.component(target);
+            match stopped(&["the static checks"]) {
+                Some(d) => ctx.diags.push(d),
+                None => checks::run(&mut ctx),
+            }
+        }
         let (c, d) = ctx.finish();
         diagnostics.extend(d);
         if first.is_some() {
