@@ -1,6 +1,7 @@
 //! `genom-check lsp` driven over standard input and output by a small
 //! scripted client: diagnostics pushed on open, change and save, document
-//! symbols, go-to-definition, hover, and a clean shutdown.
+//! symbols, go-to-definition, hover, and a clean shutdown; hostile
+//! clients in `lsp/hostile_clients.rs`.
 
 #![allow(
     clippy::expect_used,
@@ -15,6 +16,10 @@ use std::sync::mpsc::{Receiver, channel};
 use std::time::Duration;
 
 use serde_json::{Value, json};
+
+mod common;
+#[path = "lsp/hostile_clients.rs"]
+mod hostile_clients;
 
 /// How long any answer may take (the debug binary on a busy machine).
 const WAIT: Duration = Duration::from_secs(120);

@@ -14,6 +14,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::high_water_mark;
+
+mod common;
+
 const MIB: u64 = 1 << 20;
 
 /// What one run of the binary did.
@@ -24,14 +28,6 @@ struct Run {
     /// Peak resident size in bytes, as last seen before the process ended.
     peak: u64,
     took: Duration,
-}
-
-/// `VmHWM` (peak resident size) of process `pid`, in bytes.
-fn high_water_mark(pid: u32) -> Option<u64> {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
 
 /// Runs the binary with `args`, watching its peak resident size.

@@ -5,11 +5,20 @@
 //! text first (a check of an outdated text is dropped). It answers
 //! document symbols, go-to-definition and hover from the component model
 //! of the last check.
+//!
+//! Nothing a client sends ends the server but `exit` and the end of its
+//! input (the framing and what cannot be decoded: [`transport`]): a
+//! request it cannot take gets a JSON-RPC error, a notification whose
+//! params are not what the protocol says is dropped and logged
+//! (`window/logMessage`). After `shutdown`, requests get -32600 and
+//! notifications other than `exit` are dropped.
 
 mod check;
+mod decode;
 mod navigate;
 mod position;
 mod publish;
+mod transport;
 mod worker;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -17,16 +26,17 @@ use std::error::Error;
 
 use lsp_server::{Connection, ErrorCode, Message, Notification, Request, RequestId, Response};
 use lsp_types::notification::{
-    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument,
-    Notification as _, Progress, PublishDiagnostics,
+    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument, Exit,
+    LogMessage, Notification as _, Progress, PublishDiagnostics,
 };
 use lsp_types::request::{
-    DocumentSymbolRequest, GotoDefinition, HoverRequest, Request as _, WorkDoneProgressCreate,
+    DocumentSymbolRequest, GotoDefinition, HoverRequest, Initialize, Request as _, Shutdown,
+    WorkDoneProgressCreate,
 };
 use lsp_types::{
-    HoverProviderCapability, InitializeResult, OneOf, ProgressParams, ProgressParamsValue,
-    ProgressToken, PublishDiagnosticsParams, SaveOptions, ServerCapabilities, ServerInfo,
-    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
+    HoverProviderCapability, InitializeResult, MessageType, OneOf, ProgressParams,
+    ProgressParamsValue, ProgressToken, PublishDiagnosticsParams, SaveOptions, ServerCapabilities,
+    ServerInfo, TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
     TextDocumentSyncSaveOptions, Uri, WorkDoneProgress, WorkDoneProgressBegin,
     WorkDoneProgressCreateParams, WorkDoneProgressEnd,
 };
@@ -39,7 +49,13 @@ type Fallible<T> = Result<T, Box<dyn Error + Send + Sync>>;
 
 /// Serves one client on standard input and output until it exits.
 pub fn run(args: &LspArgs) -> u8 {
-    let (connection, io_threads) = Connection::stdio();
+    let (connection, io_threads) = match transport::stdio() {
+        Ok(started) => started,
+        Err(e) => {
+            eprintln!("genom-check lsp: cannot start: {e}");
+            return EXIT_USAGE;
+        }
+    };
     let status = match serve(&connection, args) {
         Ok(status) => status,
         Err(e) => {
@@ -77,18 +93,13 @@ fn capabilities() -> ServerCapabilities {
     }
 }
 
-/// Serves until `exit`: 0 after a `shutdown`, 1 without (as the protocol
-/// says).
+/// Serves until `exit`, or the end of the input: 0 after a `shutdown`, 1
+/// without (as the protocol says). An error ends it only when the
+/// output or the check thread is gone.
 fn serve(connection: &Connection, args: &LspArgs) -> Fallible<u8> {
-    let (id, params) = connection.initialize_start()?;
-    let result = InitializeResult {
-        capabilities: capabilities(),
-        server_info: Some(ServerInfo {
-            name: "genom-check".to_owned(),
-            version: Some(env!("CARGO_PKG_VERSION").to_owned()),
-        }),
+    let Some(params) = initialize(connection)? else {
+        return Ok(EXIT_ERRORS);
     };
-    connection.initialize_finish(id, serde_json::to_value(result)?)?;
     let code_url = params
         .get("initializationOptions")
         .and_then(|o| o.get("codeUrl"))
@@ -110,24 +121,62 @@ fn serve(connection: &Connection, args: &LspArgs) -> Fallible<u8> {
         running: std::sync::Arc::clone(&worker.running),
         progress,
         requests: 0,
+        shut_down: false,
         documents: BTreeMap::new(),
     };
     loop {
         crossbeam_channel::select! {
-            recv(connection.receiver) -> message => match message? {
-                Message::Request(request) => {
-                    if connection.handle_shutdown(&request)? {
-                        return Ok(EXIT_OK);
-                    }
-                    server.request(request)?;
+            recv(connection.receiver) -> message => {
+                // The input ended (or cannot be read) without `exit`.
+                let Ok(message) = message else {
+                    return Ok(server.exit_status());
+                };
+                if let Some(status) = server.message(message)? {
+                    return Ok(status);
                 }
-                Message::Notification(n) if n.method == "exit" => return Ok(EXIT_ERRORS),
-                Message::Notification(n) => server.notification(n)?,
-                Message::Response(_) => {}
-            },
+            }
             recv(worker.done) -> done => server.finished(done?)?,
         }
     }
+}
+
+/// Waits for `initialize` and answers it: requests before it get -32002
+/// (server not initialized), notifications are dropped. Its params, or
+/// `None` when the client exits or leaves first.
+fn initialize(connection: &Connection) -> Fallible<Option<serde_json::Value>> {
+    let (id, params) = loop {
+        let Ok(message) = connection.receiver.recv() else {
+            return Ok(None);
+        };
+        match message {
+            Message::Request(r) if r.method == Initialize::METHOD => break (r.id, r.params),
+            Message::Request(r) => {
+                let refused = Response::new_err(
+                    r.id,
+                    ErrorCode::ServerNotInitialized as i32,
+                    format!("`{}` before `initialize`", r.method),
+                );
+                connection.sender.send(Message::Response(refused))?;
+            }
+            Message::Notification(n) if n.method == Exit::METHOD => return Ok(None),
+            Message::Notification(_) | Message::Response(_) => {}
+        }
+    };
+    let result = InitializeResult {
+        capabilities: capabilities(),
+        server_info: Some(ServerInfo {
+            name: "genom-check".to_owned(),
+            version: Some(env!("CARGO_PKG_VERSION").to_owned()),
+        }),
+    };
+    let answer = Response::new_ok(id, serde_json::to_value(result)?);
+    connection.sender.send(Message::Response(answer))?;
+    Ok(Some(params))
+}
+
+/// The params of a request or notification, as the protocol types them.
+fn typed<P: serde::de::DeserializeOwned>(params: serde_json::Value) -> Result<P, String> {
+    serde_json::from_value(params).map_err(|e| e.to_string())
 }
 
 /// The server's state: the open documents by URI.
@@ -141,19 +190,79 @@ struct Server<'a> {
     progress: bool,
     /// Requests sent to the client so far (for their ids).
     requests: u64,
+    /// `shutdown` came: only `exit` is taken now.
+    shut_down: bool,
     documents: BTreeMap<String, Document>,
 }
 
 impl Server<'_> {
+    /// What `exit` (or the end of the input) ends with.
+    fn exit_status(&self) -> u8 {
+        if self.shut_down { EXIT_OK } else { EXIT_ERRORS }
+    }
+
+    /// Takes one message from the client; the exit status when it is
+    /// `exit`.
+    fn message(&mut self, message: Message) -> Fallible<Option<u8>> {
+        match message {
+            Message::Request(r) if self.shut_down => {
+                let refused = Response::new_err(
+                    r.id,
+                    ErrorCode::InvalidRequest as i32,
+                    format!("`{}`: the server is shutting down", r.method),
+                );
+                self.reply(refused)?;
+            }
+            Message::Request(r) if r.method == Shutdown::METHOD => {
+                self.shut_down = true;
+                self.reply(Response::new_ok(r.id, ()))?;
+            }
+            Message::Request(r) => self.request(r)?,
+            Message::Notification(n) if n.method == Exit::METHOD => {
+                return Ok(Some(self.exit_status()));
+            }
+            Message::Notification(_) if self.shut_down => {}
+            Message::Notification(n) => self.notification(n)?,
+            Message::Response(_) => {}
+        }
+        Ok(None)
+    }
+
+    /// The params of notification `method`, or `None` (logged) when they
+    /// are not what the protocol says.
+    fn params<P: serde::de::DeserializeOwned>(
+        &self,
+        method: &str,
+        params: serde_json::Value,
+    ) -> Fallible<Option<P>> {
+        match typed(params) {
+            Ok(p) => Ok(Some(p)),
+            Err(e) => {
+                let message = format!("ignored `{method}`: invalid params: {e}");
+                self.log(MessageType::ERROR, &message)?;
+                Ok(None)
+            }
+        }
+    }
+
     fn notification(&mut self, n: Notification) -> Fallible<()> {
-        match n.method.as_str() {
+        let Notification { method, params } = n;
+        match method.as_str() {
             DidOpenTextDocument::METHOD => {
-                let p: lsp_types::DidOpenTextDocumentParams = serde_json::from_value(n.params)?;
+                let Some(p) =
+                    self.params::<lsp_types::DidOpenTextDocumentParams>(&method, params)?
+                else {
+                    return Ok(());
+                };
                 let doc = Document::new(p.text_document.uri, p.text_document.text);
                 self.recheck(doc, false)
             }
             DidChangeTextDocument::METHOD => {
-                let p: lsp_types::DidChangeTextDocumentParams = serde_json::from_value(n.params)?;
+                let Some(p) =
+                    self.params::<lsp_types::DidChangeTextDocumentParams>(&method, params)?
+                else {
+                    return Ok(());
+                };
                 let key = p.text_document.uri.as_str().to_owned();
                 let (Some(mut doc), Some(change)) = (
                     self.documents.remove(&key),
@@ -165,14 +274,22 @@ impl Server<'_> {
                 self.recheck(doc, false)
             }
             DidSaveTextDocument::METHOD => {
-                let p: lsp_types::DidSaveTextDocumentParams = serde_json::from_value(n.params)?;
+                let Some(p) =
+                    self.params::<lsp_types::DidSaveTextDocumentParams>(&method, params)?
+                else {
+                    return Ok(());
+                };
                 match self.documents.remove(p.text_document.uri.as_str()) {
                     Some(doc) => self.recheck(doc, true),
                     None => Ok(()),
                 }
             }
             DidCloseTextDocument::METHOD => {
-                let p: lsp_types::DidCloseTextDocumentParams = serde_json::from_value(n.params)?;
+                let Some(p) =
+                    self.params::<lsp_types::DidCloseTextDocumentParams>(&method, params)?
+                else {
+                    return Ok(());
+                };
                 let Some(mut doc) = self.documents.remove(p.text_document.uri.as_str()) else {
                     return Ok(());
                 };
@@ -193,10 +310,13 @@ impl Server<'_> {
             doc.progress = Some((self.begin_progress(&doc)?, job.generation));
         }
         if self.running.supersede(job.uri.as_str(), job.generation) {
-            self.log(&format!(
-                "cancelled the running check of {}: its text changed",
-                job.uri.as_str()
-            ))?;
+            self.log(
+                MessageType::INFO,
+                &format!(
+                    "cancelled the running check of {}: its text changed",
+                    job.uri.as_str()
+                ),
+            )?;
         }
         self.jobs.send(job)?;
         self.documents.insert(doc.uri.as_str().to_owned(), doc);
@@ -283,18 +403,19 @@ impl Server<'_> {
         Ok(())
     }
 
-    /// A `window/logMessage` (information) to the client.
-    fn log(&self, message: &str) -> Fallible<()> {
+    /// A `window/logMessage` to the client.
+    fn log(&self, typ: MessageType, message: &str) -> Fallible<()> {
         let params = lsp_types::LogMessageParams {
-            typ: lsp_types::MessageType::INFO,
+            typ,
             message: message.to_owned(),
         };
-        let n = Notification::new(
-            <lsp_types::notification::LogMessage as lsp_types::notification::Notification>::METHOD
-                .to_owned(),
-            params,
-        );
+        let n = Notification::new(LogMessage::METHOD.to_owned(), params);
         self.connection.sender.send(Message::Notification(n))?;
+        Ok(())
+    }
+
+    fn reply(&self, response: Response) -> Fallible<()> {
+        self.connection.sender.send(Message::Response(response))?;
         Ok(())
     }
 
@@ -305,42 +426,59 @@ impl Server<'_> {
         Ok(())
     }
 
+    /// Answers a request: params that are not what the protocol says get
+    /// -32602, a second `initialize` -32600, other methods -32601.
     fn request(&self, request: Request) -> Fallible<()> {
         let Request { id, method, params } = request;
+        let invalid = |id, e: String| {
+            let message = format!("`{method}`: invalid params: {e}");
+            Response::new_err(id, ErrorCode::InvalidParams as i32, message)
+        };
         let response = match method.as_str() {
-            DocumentSymbolRequest::METHOD => {
-                let p: lsp_types::DocumentSymbolParams = serde_json::from_value(params)?;
-                let symbols = self
-                    .documents
-                    .get(p.text_document.uri.as_str())
-                    .map(navigate::symbols);
-                Response::new_ok(id, symbols)
-            }
-            GotoDefinition::METHOD => {
-                let p: lsp_types::GotoDefinitionParams = serde_json::from_value(params)?;
-                let at = p.text_document_position_params;
-                let found = self
-                    .documents
-                    .get(at.text_document.uri.as_str())
-                    .and_then(|d| navigate::definition(d, at.position));
-                Response::new_ok(id, found)
-            }
-            HoverRequest::METHOD => {
-                let p: lsp_types::HoverParams = serde_json::from_value(params)?;
-                let at = p.text_document_position_params;
-                let found = self
-                    .documents
-                    .get(at.text_document.uri.as_str())
-                    .and_then(|d| navigate::hover(d, at.position));
-                Response::new_ok(id, found)
-            }
+            DocumentSymbolRequest::METHOD => match typed::<lsp_types::DocumentSymbolParams>(params)
+            {
+                Ok(p) => {
+                    let symbols = self
+                        .documents
+                        .get(p.text_document.uri.as_str())
+                        .map(navigate::symbols);
+                    Response::new_ok(id, symbols)
+                }
+                Err(e) => invalid(id, e),
+            },
+            GotoDefinition::METHOD => match typed::<lsp_types::GotoDefinitionParams>(params) {
+                Ok(p) => {
+                    let at = p.text_document_position_params;
+                    let found = self
+                        .documents
+                        .get(at.text_document.uri.as_str())
+                        .and_then(|d| navigate::definition(d, at.position));
+                    Response::new_ok(id, found)
+                }
+                Err(e) => invalid(id, e),
+            },
+            HoverRequest::METHOD => match typed::<lsp_types::HoverParams>(params) {
+                Ok(p) => {
+                    let at = p.text_document_position_params;
+                    let found = self
+                        .documents
+                        .get(at.text_document.uri.as_str())
+                        .and_then(|d| navigate::hover(d, at.position));
+                    Response::new_ok(id, found)
+                }
+                Err(e) => invalid(id, e),
+            },
+            Initialize::METHOD => Response::new_err(
+                id,
+                ErrorCode::InvalidRequest as i32,
+                "`initialize`: the server is already initialized".to_owned(),
+            ),
             _ => Response::new_err(
                 id,
                 ErrorCode::MethodNotFound as i32,
                 format!("genom-check lsp does not handle `{method}`"),
             ),
         };
-        self.connection.sender.send(Message::Response(response))?;
-        Ok(())
+        self.reply(response)
     }
 }

@@ -140,3 +140,12 @@ pub fn error_codes(file: &serde_json::Value) -> Vec<&str> {
         .filter_map(|d| d["code"].as_str())
         .collect()
 }
+
+/// `VmHWM` (peak resident size) of process `pid`, in bytes; `None` where
+/// there is no `/proc` or the process is gone.
+pub fn high_water_mark(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
