@@ -117,6 +117,9 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
                 }
             }
         });
+        for (w, d) in done.iter_mut().zip(engine.completions_seen()) {
+            *w |= d;
+        }
         if let Some(id) = booted {
             boot = exploration.store.path(id);
         }

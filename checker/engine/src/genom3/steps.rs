@@ -47,6 +47,14 @@ pub struct Engine<'a> {
     ctls: Vec<bool>,
     /// Per task: whether its permanent activity runs.
     perms: Vec<bool>,
+    /// The services whose completion some step reads (`after`/`before`
+    /// name them), as bits: the only completion flags kept in a state.
+    /// The others are history no step reads; keeping them multiplied the
+    /// states by the subsets of services completed so far.
+    tracked: Vec<u64>,
+    /// The completions of every service seen in the steps fired so far
+    /// (tracked or not): the facts `completed` reads.
+    seen_done: std::cell::RefCell<Vec<u64>>,
 }
 
 impl<'a> Engine<'a> {
@@ -69,6 +77,10 @@ impl<'a> Engine<'a> {
     pub fn part_tasks(m: Machine<'a>, acts: Vec<bool>, ctls: Vec<bool>, perms: Vec<bool>) -> Self {
         let done_words = m.c.services.len().div_ceil(64).max(1);
         let slots = m.slots();
+        let mut tracked = vec![0u64; done_words];
+        for s in m.after.values().chain(m.before.values()).flatten() {
+            tracked[s.index() / 64] |= 1 << (s.index() % 64);
+        }
         Engine {
             m,
             done_words,
@@ -76,6 +88,8 @@ impl<'a> Engine<'a> {
             acts,
             ctls,
             perms,
+            tracked,
+            seen_done: std::cell::RefCell::new(vec![0; done_words]),
         }
     }
 
@@ -101,7 +115,23 @@ impl<'a> Engine<'a> {
             inst: vec![Vec::new(); self.m.activities.len()],
         };
         self.settle(&mut s, false);
+        self.forget_untracked(&mut s);
         s
+    }
+
+    /// Records the completions of `n` as seen, then keeps only the tracked
+    /// ones in it.
+    fn forget_untracked(&self, n: &mut G3State) {
+        let mut seen = self.seen_done.borrow_mut();
+        for ((d, t), w) in n.done.iter_mut().zip(&self.tracked).zip(seen.iter_mut()) {
+            *w |= *d;
+            *d &= t;
+        }
+    }
+
+    /// The services some fired step completed successfully, by index bits.
+    pub fn completions_seen(&self) -> Vec<u64> {
+        self.seen_done.borrow().clone()
     }
 
     /// Whether `after`/`before` let service `sid` be accepted.
@@ -412,6 +442,7 @@ impl Model for Engine<'_> {
         let added = usize::from(matches!(action, G3Action::Accept(_)));
         let ended = total(&n) < total(s) + added;
         self.settle(&mut n, ended);
+        self.forget_untracked(&mut n);
         (n != *s).then_some(n)
     }
 
