@@ -2,41 +2,22 @@
 //! `stops`/`delays`/`forbids` relation, explored independently (see
 //! [`super::analysis`]).
 
-use std::collections::BTreeMap;
+use genom_model::component::{Component, Idx, ServiceId};
 
-use genom_model::component::{Component, ServiceId};
+use super::parts::Links;
 
 /// The clusters: connected components of the `stops`/`delays`/`forbids`
 /// relation, each sorted, in order of their first service.
 pub fn clusters(c: &Component) -> Vec<Vec<ServiceId>> {
-    let n = c.services.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(parent: &mut [usize], x: usize) -> usize {
-        let mut r = x;
-        while parent[r] != r {
-            r = parent[r];
-        }
-        let mut y = x;
-        while parent[y] != r {
-            let next = parent[y];
-            parent[y] = r;
-            y = next;
-        }
-        r
-    }
+    let mut links = Links::new(c.services.len());
     for (s, svc) in c.services.iter() {
         for r in svc.stops.iter().chain(&svc.delays).chain(&svc.forbids) {
-            let (a, b) = (
-                find(&mut parent, s.0 as usize),
-                find(&mut parent, r.id.0 as usize),
-            );
-            parent[a.max(b)] = a.min(b);
+            links.link(s.index(), r.id.index());
         }
     }
-    let mut groups: BTreeMap<usize, Vec<ServiceId>> = BTreeMap::new();
-    for s in c.services.ids() {
-        let root = find(&mut parent, s.0 as usize);
-        groups.entry(root).or_default().push(s);
-    }
-    groups.into_values().collect()
+    links
+        .parts(c.services.ids().map(Idx::index))
+        .into_iter()
+        .map(|part| part.into_iter().map(<ServiceId as Idx>::new).collect())
+        .collect()
 }

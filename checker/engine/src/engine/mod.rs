@@ -21,6 +21,7 @@ mod clusters;
 pub mod compose;
 pub mod explore;
 pub mod method;
+pub mod parts;
 mod pending;
 pub mod petri_check;
 pub mod reduction;

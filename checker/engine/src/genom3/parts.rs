@@ -11,11 +11,10 @@
 //! part's trace, after the boot steps of the permanent activities, is a
 //! trace of the whole component.
 
-use std::collections::BTreeMap;
-
 use genom_model::component::{Idx, ServiceId};
 
 use super::machine::{Machine, Role};
+use crate::engine::parts::Links;
 
 /// The services requested in one exploration.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -31,16 +30,14 @@ pub struct Part {
 /// The parts of a machine: the permanent activities first (when a task has
 /// some), then one part per group of linked services, in service order.
 pub fn parts(m: &Machine<'_>) -> Vec<Part> {
-    let n = m.c.services.len();
-    let mut root: Vec<usize> = (0..n).collect();
     let global = |sid: ServiceId| match m.role.get(&sid) {
         Some(Role::Control(k)) => m.controls[*k].builtin,
         _ => false,
     };
+    let mut links = Links::new(m.c.services.len());
     let mut link = |a: ServiceId, b: ServiceId| {
         if !global(a) && !global(b) {
-            let (ra, rb) = (find(&mut root, a.index()), find(&mut root, b.index()));
-            root[ra.max(rb)] = ra.min(rb);
+            links.link(a.index(), b.index());
         }
     };
     for (sid, deps) in m.after.iter().chain(m.before.iter()) {
@@ -58,24 +55,11 @@ pub fn parts(m: &Machine<'_>) -> Vec<Part> {
             link(k.service, m.activities[t].service);
         }
     }
-    let mut groups: BTreeMap<usize, Part> = BTreeMap::new();
     let base = Part {
         acts: vec![false; m.activities.len()],
         ctls: m.controls.iter().map(|k| k.builtin).collect(),
         perms: false,
     };
-    for (sid, role) in &m.role {
-        if global(*sid) {
-            continue;
-        }
-        let g = groups
-            .entry(find(&mut root, sid.index()))
-            .or_insert_with(|| base.clone());
-        match *role {
-            Role::Activity(a) => g.acts[a] = true,
-            Role::Control(k) => g.ctls[k] = true,
-        }
-    }
     let mut out = Vec::new();
     if m.tasks.iter().any(|t| t.perm.is_some()) {
         out.push(Part {
@@ -83,17 +67,20 @@ pub fn parts(m: &Machine<'_>) -> Vec<Part> {
             ..base.clone()
         });
     }
-    out.extend(groups.into_values());
+    let requested = m.role.keys().filter(|s| !global(**s)).map(|s| s.index());
+    for services in links.parts(requested) {
+        let mut g = base.clone();
+        for s in services {
+            match m.role.get(&<ServiceId as Idx>::new(s)) {
+                Some(Role::Activity(a)) => g.acts[*a] = true,
+                Some(Role::Control(k)) => g.ctls[*k] = true,
+                None => {}
+            }
+        }
+        out.push(g);
+    }
     if out.is_empty() {
         out.push(base);
     }
     out
-}
-
-fn find(root: &mut [usize], mut x: usize) -> usize {
-    while root[x] != x {
-        root[x] = root[root[x]];
-        x = root[x];
-    }
-    x
 }

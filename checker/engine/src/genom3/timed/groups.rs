@@ -26,6 +26,7 @@
 use genom_model::component::Idx;
 
 use super::locks::Locks;
+use crate::engine::parts::Links;
 use crate::genom3::machine::{ControlKind, Machine};
 
 /// The tasks and services of one timed exploration.
@@ -44,12 +45,9 @@ pub struct Group {
 pub fn groups(m: &Machine<'_>, locks: &Locks) -> Vec<Group> {
     let ns = m.c.services.len();
     let nt = m.tasks.len();
-    let mut root: Vec<usize> = (0..ns + nt).collect();
+    let mut links = Links::new(ns + nt);
     let builtin = |s: genom_model::component::ServiceId| m.is_builtin(s);
-    let mut link = |a: usize, b: usize| {
-        let (ra, rb) = (find(&mut root, a), find(&mut root, b));
-        root[ra.max(rb)] = ra.min(rb);
-    };
+    let mut link = |a: usize, b: usize| links.link(a, b);
     for (sid, deps) in m.after.iter().chain(m.before.iter()) {
         for d in deps.iter().filter(|d| !builtin(**d) && !builtin(*sid)) {
             link(sid.index(), d.index());
@@ -83,28 +81,23 @@ pub fn groups(m: &Machine<'_>, locks: &Locks) -> Vec<Group> {
         }
     }
     let mut out: Vec<Group> = Vec::new();
-    let mut seen = Vec::new();
-    for t in 0..nt {
-        let r = find(&mut root, ns + t);
-        if seen.contains(&r) {
-            continue;
-        }
-        seen.push(r);
-        let tasks: Vec<bool> = (0..nt).map(|u| find(&mut root, ns + u) == r).collect();
+    for part in links.parts(ns..ns + nt) {
+        let r = part[0];
+        let tasks: Vec<bool> = (0..nt).map(|u| links.same(ns + u, r)).collect();
         if !(0..nt).any(|u| tasks[u] && m.tasks[u].period_ns.is_some()) {
             continue;
         }
         let acts = m
             .activities
             .iter()
-            .map(|a| find(&mut root, a.service.index()) == r)
+            .map(|a| links.same(a.service.index(), r))
             .collect();
         let ctls = (0..m.controls.len())
             .map(|k| {
                 let c = &m.controls[k];
                 c.builtin
                     || c.kind != ControlKind::Plain
-                    || find(&mut root, c.service.index()) == r
+                    || links.same(c.service.index(), r)
                     || contends(m, locks, c.service, &tasks)
             })
             .collect();
@@ -133,12 +126,4 @@ fn contends(
 /// Whether task `t` has a codel that takes a ticket (one not `async`).
 fn takes_tickets(locks: &Locks, t: usize) -> bool {
     (0..locks.len()).any(|k| locks.key_task[k] == t && !locks.is_async(k))
-}
-
-fn find(root: &mut [usize], mut x: usize) -> usize {
-    while root[x] != x {
-        root[x] = root[root[x]];
-        x = root[x];
-    }
-    x
 }
