@@ -136,6 +136,45 @@ fn genom3_behaviour_is_explored_and_its_timing_checked() {
     assert!(stderr.contains("thread-overrun"), "{stderr}");
 }
 
+/// `decided_by` gives one entry per part of the untimed exploration: the
+/// permanent activities, then each group of linked services (here `halt`
+/// interrupts `move`; `ping` stands alone), with its states; with WCETs,
+/// one `zones` entry follows over every service.
+#[test]
+fn each_part_says_how_it_was_decided() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "component p {
+  task t { period 10 ms; codel<start> boot() yield pause::start; };
+  activity move() { task t; codel<start> go() yield pause::start, ether; };
+  activity halt() { task t; interrupts move; codel<start> h() yield ether; };
+  function ping() { codel pong(); };
+};
+";
+    let path = write(dir.path(), "p.gen", text);
+    let (status, file) = json(&[path.to_str().unwrap()]);
+    assert_eq!(status, 0, "{file:#}");
+    let decided = file["statistics"]["decided_by"].as_array().unwrap();
+    let parts: Vec<(Vec<&str>, &str, bool)> = decided
+        .iter()
+        .map(|d| {
+            let names = d["services"].as_array().unwrap();
+            let names = names.iter().map(|n| n.as_str().unwrap()).collect();
+            (names, d["engine"].as_str().unwrap(), d["complete"] == true)
+        })
+        .collect();
+    assert_eq!(
+        parts,
+        [
+            (vec!["task t"], "explicit", true),
+            (vec!["move", "halt"], "explicit", true),
+            (vec!["ping"], "explicit", true),
+        ]
+    );
+    let sum: u64 = decided.iter().map(|d| d["states"].as_u64().unwrap()).sum();
+    assert_eq!(Some(sum), file["statistics"]["states"].as_u64());
+    assert!(decided[1]["states"].as_u64() > decided[2]["states"].as_u64());
+}
+
 #[test]
 fn max_instances_explores_more_instances_with_the_same_verdicts() {
     const F6: &str = "tests/fixtures/genom3/semantics/f6_interrupt_stop.gen";

@@ -75,12 +75,16 @@ pub fn verify_genom3(
         .iter()
         .map(|(_, s)| s.name.name.clone())
         .collect();
-    let mut decided_by = vec![Decision::new(
-        all.clone(),
-        Decider::Exhaustive,
-        analysis.states,
-        analysis.stopped.is_none(),
-    )];
+    let mut decided_by: Vec<Decision> = analysis
+        .parts
+        .iter()
+        .map(|p| {
+            let services = p.services.iter().map(|&s| m.service_name(s).to_owned());
+            let tasks = p.tasks.iter().map(|&t| format!("task {}", m.tasks[t].name));
+            let names = tasks.chain(services).collect();
+            Decision::new(names, Decider::Exhaustive, p.states, p.complete)
+        })
+        .collect();
     let mut long_codels = Vec::new();
     let timed = gives_timing(&m);
     if timed {

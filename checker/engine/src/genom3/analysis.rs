@@ -11,7 +11,7 @@ use petgraph::algo::tarjan_scc;
 use petgraph::graphmap::DiGraphMap;
 
 use super::machine::{Fsm, Machine, Owner, Target};
-use super::parts::parts;
+use super::parts::{Part, parts};
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use crate::engine::explore::{Limits, Model, Stop, explore};
@@ -65,6 +65,22 @@ pub struct G3Analysis {
     /// The boot: the steps of the permanent activities that lead to the
     /// first state where requests are handled.
     pub boot: Vec<G3Action>,
+    /// What each part's exploration covered, in exploration order.
+    pub parts: Vec<PartRecord>,
+}
+
+/// One part's exploration ([`super::parts`]): what it requested and how
+/// far it went.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PartRecord {
+    /// The services it requests, but the built-in ones every part has.
+    pub services: Vec<ServiceId>,
+    /// The tasks whose permanent activity it runs.
+    pub tasks: Vec<usize>,
+    /// States stored.
+    pub states: u64,
+    /// Whether it finished.
+    pub complete: bool,
 }
 
 /// Explores `c` (a GenoM3 component; `None` otherwise) with at most
@@ -85,7 +101,12 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
     let mut bytes = 0.0f64;
     for part in parts(&whole.m) {
         let perms = part.perms;
-        let engine = Engine::part(whole.m.clone(), part.acts, part.ctls, part.perms);
+        let engine = Engine::part(
+            whole.m.clone(),
+            part.acts.clone(),
+            part.ctls.clone(),
+            part.perms,
+        );
         let mut entered: BTreeMap<usize, (StateId, Owner, u8)> = BTreeMap::new();
         let mut booted: Option<StateId> = None;
         let exploration = explore(&engine, limits, |id, s: &G3State| {
@@ -132,6 +153,14 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
                 cycle,
             });
         }
+        out.parts.push(PartRecord {
+            services: requested(&engine.m, &part),
+            tasks: (0..engine.m.tasks.len())
+                .filter(|&t| perms && engine.m.tasks[t].perm.is_some())
+                .collect(),
+            states: exploration.store.len() as u64,
+            complete: exploration.stopped.is_none(),
+        });
         out.states += exploration.store.len() as u64;
         out.transitions += exploration.transitions;
         bytes = bytes.max(exploration.store.bytes_per_state());
@@ -150,6 +179,25 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
     out.started.extend(out.completed.iter().copied());
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
+    out
+}
+
+/// The services `part` requests, in service order, but the built-in ones.
+fn requested(m: &Machine<'_>, part: &Part) -> Vec<ServiceId> {
+    let acts = m
+        .activities
+        .iter()
+        .zip(&part.acts)
+        .filter(|(_, on)| **on)
+        .map(|(a, _)| a.service);
+    let ctls = m
+        .controls
+        .iter()
+        .zip(&part.ctls)
+        .filter(|(k, on)| **on && !k.builtin)
+        .map(|(k, _)| k.service);
+    let mut out: Vec<ServiceId> = acts.chain(ctls).collect();
+    out.sort_unstable();
     out
 }
 
