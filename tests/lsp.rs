@@ -702,7 +702,7 @@ fn a_change_cancels_the_running_save_check() {
 
 /// With WCETs (here from the project's `genom-check.toml`), a save check
 /// computes the response times and hover on a service shows its worst
-/// case (`r1_paused_chain`: 23 ms, tests/genom3_response.rs).
+/// case (`r1_paused_chain`: 23 ms, tests/genom3/genom3_response.rs).
 #[test]
 fn hover_shows_the_worst_response_time_after_a_save() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/genom3/response");

@@ -2,7 +2,7 @@
 //! (LANGUAGE.md section 3, docs/semantics.md sections 1–3) as a Promela
 //! model for SPIN, written from the specification and independently of the
 //! explorer (`checker/src/engine`), so that SPIN's verdicts can be compared
-//! with genom-check's (`tests/spin_diff.rs`, docs/testing/spin.md).
+//! with genom-check's (`tests/differential/spin_diff.rs`, docs/testing/spin.md).
 //!
 //! A GenoM3 component is exported with GenoM3's own semantics instead
 //! ([`crate::promela_genom3`]).

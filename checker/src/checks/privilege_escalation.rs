@@ -18,7 +18,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use genom_model::component::{Component, DataPath, Ref, Service, ServiceId, StructureId};
+use genom_model::component::{Component, DataPath, Ref, Service, ServiceId, Step, StructureId};
 use genom_model::{Code, Diagnostic, Span};
 
 /// `genom-check explain privilege-escalation`.
@@ -203,6 +203,9 @@ fn overlap(a: &DataPath, b: &DataPath) -> bool {
         && (a.steps.starts_with(&b.steps) || b.steps.starts_with(&a.steps))
 }
 
+/// A step after every other (steps order fields first, then indices).
+const LAST: Step = Step::Index(u64::MAX);
+
 /// What each service reads and writes, computed once.
 struct Uses<'a> {
     reads: Vec<&'a DataPath>,
@@ -243,6 +246,7 @@ fn escalations(
 /// structure it writes), so the check is linear in the component plus
 /// what it reports, not quadratic in the number of services.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
+    let strongest = c.services.values().map(|s| s.credential).max().unwrap_or(0);
     let uses: BTreeMap<ServiceId, Uses<'_>> = c
         .services
         .iter()
@@ -254,28 +258,52 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
             (id, u)
         })
         .collect();
-    let mut readers: BTreeMap<StructureId, BTreeSet<ServiceId>> = BTreeMap::new();
+    // Who reads what: by structure and first step (`None`: the whole
+    // structure), so that only paths that can overlap meet.
+    let mut readers: BTreeMap<(StructureId, Option<&Step>), Vec<ServiceId>> = BTreeMap::new();
     for (&id, u) in &uses {
-        for structure in u.reads.iter().filter_map(|d| d.structure()) {
-            readers.entry(structure).or_default().insert(id);
+        for d in &u.reads {
+            if let Some(structure) = d.structure() {
+                readers
+                    .entry((structure, d.steps.first()))
+                    .or_default()
+                    .push(id);
+            }
         }
     }
+    let stronger = |weak: &Service, sid: &ServiceId| {
+        c.services
+            .get(*sid)
+            .is_some_and(|s| weak.credential < s.credential)
+    };
     let mut out = Vec::new();
     for (wid, weak) in c.services.iter() {
         let Some(weak_uses) = uses.get(&wid) else {
             continue;
         };
+        // Nobody is stronger than the strongest class.
+        if weak.credential >= strongest {
+            continue;
+        }
         let named = [Relation::Stops, Relation::Delays, Relation::Forbids]
             .into_iter()
             .flat_map(|rel| rel.refs(weak).iter().map(|r| r.id));
         let reading = weak_uses
             .writes
             .iter()
-            .filter_map(|d| d.structure())
-            .filter_map(|s| readers.get(&s))
-            .flatten()
-            .copied();
-        let candidates: BTreeSet<ServiceId> = named.chain(reading).collect();
+            .filter_map(|d| Some((d.structure()?, d.steps.first())))
+            .flat_map(|(s, first)| {
+                // A whole-structure write meets every reader of it; a
+                // member's, the readers of that member or of the whole.
+                let range = match first {
+                    None => readers.range((s, None)..=(s, Some(&LAST))),
+                    Some(step) => readers.range((s, Some(step))..=(s, Some(step))),
+                };
+                range.chain(readers.range((s, None)..=(s, None)))
+            })
+            .flat_map(|(_, ids)| ids.iter().copied());
+        let candidates: BTreeSet<ServiceId> =
+            named.chain(reading).filter(|s| stronger(weak, s)).collect();
         for sid in candidates {
             let (Some(strong), Some(strong_uses)) = (c.services.get(sid), uses.get(&sid)) else {
                 continue;

@@ -4,7 +4,7 @@
 //! from the semantics document and the model ([`Component`] and its
 //! `Genom3Info`), independently of genom-check's GenoM3 engine
 //! (`checker/engine/src/genom3/`), so that SPIN's verdicts can be compared
-//! with the engine's (`tests/spin_diff_genom3.rs`).
+//! with the engine's (`tests/differential/spin_diff_genom3.rs`).
 //!
 //! The encoding (docs/exports/promela.md, section "GenoM3 components"):
 //!

@@ -314,7 +314,7 @@ pub enum DataRoot {
 }
 
 /// One step of a member path.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Step {
     /// `.field`
     Field(String),

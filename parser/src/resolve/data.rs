@@ -244,9 +244,14 @@ impl Resolver {
                 // The field names are gathered only for the diagnostic
                 // (cloning them all for every reference made resolving
                 // quadratic in the size of a large `ids`).
+                let struct_id = match self.c.types.resolve(ty) {
+                    Ty::Named { id } => Some(*id),
+                    _ => None,
+                };
+                let index = &mut self.names.fields;
                 let found = self.c.types.fields(ty).map(|fs| {
-                    fs.iter()
-                        .find(|x| x.name == f.name)
+                    field_position(index, struct_id, fs, &f.name)
+                        .and_then(|k| fs.get(k))
                         .map(|x| x.ty.clone())
                         .ok_or_else(|| fs.iter().map(|x| x.name.clone()).collect::<Vec<_>>())
                 });
@@ -298,4 +303,31 @@ impl Resolver {
         }
         Some((Step::Index(n), elem))
     }
+}
+
+/// Where field `name` is among `fields` (of struct type `id`): a linear
+/// search in a small struct; in a large one (an `ids` of thousands of
+/// members), an index built once per type, so that resolving every
+/// reference stays linear in the component.
+fn field_position(
+    index: &mut BTreeMap<genom_model::component::TypeId, (usize, BTreeMap<String, usize>)>,
+    id: Option<genom_model::component::TypeId>,
+    fields: &[Field],
+    name: &str,
+) -> Option<usize> {
+    const SMALL: usize = 32;
+    let Some(id) = id.filter(|_| fields.len() > SMALL) else {
+        return fields.iter().position(|x| x.name == name);
+    };
+    let (len, map) = index.entry(id).or_default();
+    // Built again if the struct changed since (a forward declaration
+    // completed): the index always matches the fields it is used with.
+    if *len != fields.len() {
+        *len = fields.len();
+        map.clear();
+        for (k, f) in fields.iter().enumerate().rev() {
+            map.insert(f.name.clone(), k);
+        }
+    }
+    map.get(name).copied()
 }

@@ -87,6 +87,9 @@ pub(crate) struct Names {
     /// Codels by service and name (the first declared of each name), so
     /// that a long chain of `next` resolves in linear time.
     codels: BTreeMap<(ServiceId, String), genom_model::component::CodelId>,
+    /// Field positions of large struct types, by type (see
+    /// `data::field_position`), with the field count they were built for.
+    fields: BTreeMap<genom_model::component::TypeId, (usize, BTreeMap<String, usize>)>,
 }
 
 #[derive(Debug)]

@@ -23,7 +23,7 @@
 //! semantics of the part and its upstream services ([`concretize`]), guided
 //! by the witness: the part's steps in order, and upstream steps that show
 //! the interface values in the witness's order. `docs/semantics.md`
-//! ("Compositional exploration") states the argument; tests/compose.rs
+//! ("Compositional exploration") states the argument; tests/verdicts/compose.rs
 //! compares it with the exploration of whole clusters.
 
 use std::collections::{BTreeMap, BTreeSet};

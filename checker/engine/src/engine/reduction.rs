@@ -41,7 +41,7 @@
 //! the search. With inputs or watchdogs (compositional parts, timed
 //! services) only the facts are followed, without stubborn sets.
 //! `docs/semantics.md` ("Partial-order reduction") gives the argument that
-//! every verdict is preserved; tests/compose.rs compares the stubborn sets
+//! every verdict is preserved; tests/verdicts/compose.rs compares the stubborn sets
 //! alone, the whole reduction and the default method with exhaustive
 //! exploration on generated components.
 

@@ -1,6 +1,6 @@
 //! Unit tests of the GenoM3 generator on its plans and texts (the whole
 //! check of generated components is in the workspace's
-//! `tests/genom3_generate.rs`).
+//! `tests/cli/genom3_generate.rs`).
 
 use super::plan::Plan;
 use super::*;

@@ -15,7 +15,7 @@
 
 #![allow(clippy::expect_used, clippy::print_stderr)] // test support code
 
-mod common;
+use crate::common;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

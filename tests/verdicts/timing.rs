@@ -16,8 +16,8 @@
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
-mod common;
-mod timed_trace;
+use crate::common;
+use crate::timed_trace;
 
 use std::path::{Path, PathBuf};
 

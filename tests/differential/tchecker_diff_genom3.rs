@@ -22,7 +22,7 @@
 //! sizes; `TCK_GENOM3_SEEDS`: a count or a range `A..B`, default 60) are
 //! compared with `tck-reach` too.
 //! `TCK_ALGO` (default `covreach`), `TCK_KEEP` (a directory that keeps the
-//! models) and `TCK_MEMORY_MB` are as for `tests/tchecker_diff.rs`.
+//! models) and `TCK_MEMORY_MB` are as for `tests/differential/tchecker_diff.rs`.
 //!
 //! Always run: the same comparison with a small interpreter of the network
 //! (`tests/ta_sim`: explicit locations and variables, clocks as zones) on
@@ -37,8 +37,8 @@
     clippy::print_stderr
 )] // test harness
 
-mod common;
-mod ta_sim;
+use crate::common;
+use crate::ta_sim;
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;

@@ -9,8 +9,8 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)]
 
-mod common;
-mod timed_trace;
+use crate::common;
+use crate::timed_trace;
 
 use std::path::{Path, PathBuf};
 

@@ -8,7 +8,7 @@ use assert_cmd::Command;
 use predicates::prelude::*;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 fn genom_check() -> Command {
     let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");

@@ -7,7 +7,7 @@
 //! which both explore completely.
 //!
 //! Ignored by default (it runs SPIN, TChecker when `TCK_REACH` is set, and
-//! takes a minute or two): `cargo test --release --test bench_table --
+//! takes a minute or two): `cargo test --release --test cli bench_table:: --
 //! --ignored --nocapture`. Needs bash, awk and GNU time (`/usr/bin/time`).
 
 #![allow(clippy::expect_used, clippy::print_stderr)] // test harness

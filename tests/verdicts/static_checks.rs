@@ -5,7 +5,7 @@
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! (up to six services, three threads, init, autos, setters, dense rules)
 //! is wider than the small generator of the main cross-check.
 
-mod petri_common;
+use crate::petri_common;
 
 use genom_generate::{GeneratorConfig, generate};
 use petri_common::{cross_check, parse};

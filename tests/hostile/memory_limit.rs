@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 
 use common::high_water_mark;
 
-mod common;
+use crate::common;
 
 const MIB: u64 = 1 << 20;
 

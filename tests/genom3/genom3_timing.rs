@@ -8,7 +8,7 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

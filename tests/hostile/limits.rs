@@ -13,7 +13,7 @@ use std::time::Instant;
 use assert_cmd::Command;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 fn genom_check() -> Command {
     let mut cmd = Command::cargo_bin("genom-check").expect("binary is built");
@@ -120,7 +120,10 @@ fn assert_human_summary_not_clean(args: &[&str]) {
         .lines()
         .rfind(|l| l.starts_with(BIG))
         .expect("a summary line");
-    assert!(summary.contains(", incomplete)"), "{summary}");
+    // Stopped in the exploration, the figures say `incomplete`; stopped
+    // during the static checks, there are no figures and the error says it.
+    let in_static = text.contains("was reached during the static checks");
+    assert!(summary.contains(", incomplete)") || in_static, "{summary}");
     assert!(!summary.contains(": 0 errors"), "{summary}");
     assert!(text.contains("× verification is incomplete"), "{text}");
 }
@@ -265,7 +268,13 @@ fn check_huge(name: &str, text: &str) -> String {
         elapsed.as_secs_f64()
     );
     eprintln!("{figures}");
-    assert!(stats.is_object(), "the engines ran: {figures}");
+    // The engines ran, or a limit stopped the static checks before them
+    // (a loaded machine): a clean stop either way.
+    let static_stop = errors == ["incomplete"] && stats.is_null();
+    assert!(stats.is_object() || static_stop, "{figures}");
+    if static_stop {
+        return figures;
+    }
     match code {
         Some(0) => assert!(errors.is_empty() && stats["complete"] == true, "{figures}"),
         Some(1) => {

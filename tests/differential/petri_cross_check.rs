@@ -8,7 +8,7 @@
 
 #![allow(clippy::expect_used, clippy::print_stdout)] // test support code outside #[test] functions
 
-mod petri_common;
+use crate::petri_common;
 
 use std::path::{Path, PathBuf};
 

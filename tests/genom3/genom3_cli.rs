@@ -6,7 +6,7 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::print_stderr)] // test support code; skips are said on stderr
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

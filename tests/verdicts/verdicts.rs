@@ -10,7 +10,7 @@
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -785,7 +785,7 @@ fn every_verdict_trace_replays_against_the_semantics() {
         for d in &result.diagnostics {
             let Some(trace) = &d.trace else { continue };
             if !BEHAVIOURAL.contains(&d.code) {
-                continue; // timing traces: tests/timing.rs replays them
+                continue; // timing traces: tests/verdicts/timing.rs replays them
             }
             let names = quoted(&d.message);
             replayed += 1;

@@ -11,7 +11,7 @@
 //! it:
 //!
 //! ```sh
-//! GENOM3=/path/to/bin/genom3 cargo test --test genom3_diff -- --ignored --nocapture
+//! GENOM3=/path/to/bin/genom3 cargo test --test genom3 genom3_diff:: -- --ignored --nocapture
 //! ```
 //!
 //! Both tools read each file with `-I <the corpus folder of the file>` and
