@@ -1,6 +1,7 @@
 //! Fuzz target `genom3`: the GenoM3 front-end (preprocessor, parser,
 //! lowering into the model) and the static checks on arbitrary UTF-8 text,
-//! with interface files available to `#include` (`interface.gen`, a
+//! with interface files available to `#include` (`interface.gen`, two
+//! files `left.gen` and `right.gen` that both include it, a diamond, a
 //! self-including `self.gen`, a broken `bad.idl`). Seeded with the real
 //! components of the GenoM3 corpus and the front-end's fixtures, which
 //! libFuzzer mutates. It must never panic, every label must point inside a
@@ -22,6 +23,14 @@ fn loader() -> MemoryLoader {
             "interface.gen",
             "#ifndef IF\n#define IF\ninterface i {\n  ids { double x; };\n  \
              function f(in double v) { doc \"set\"; };\n};\n#endif\n",
+        )
+        .with(
+            "left.gen",
+            "#include \"interface.gen\"\nconst long L = 1;\n",
+        )
+        .with(
+            "right.gen",
+            "#include \"interface.gen\"\nconst long R = 2;\n",
         )
         .with("self.gen", "#include \"self.gen\"\n")
         .with("bad.idl", "struct s { double x; \n")
