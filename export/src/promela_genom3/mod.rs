@@ -87,7 +87,7 @@ fn supported(r: &Reading) -> Result<(), String> {
 }
 
 fn header(out: &mut String, input: &ExportInput<'_>) {
-    crate::promela::opening(out, input, "GenoM3's untimed semantics");
+    crate::promela_opening(out, input, "GenoM3's untimed semantics");
     out.push_str(
         " *\n\
          \x20* docs/genom3-semantics.md section 14: any interleaving of the permanent\n\
