@@ -50,7 +50,9 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     supported(&r).map_err(unsupported)?;
     let mut out = String::new();
     header(&mut out, input);
-    let body = emit::Model::new(c, &r).write();
+    let mut model = emit::Model::new(c, &r);
+    let options = steps::options(&mut model);
+    let body = model.write(options);
     out.push_str(&body);
     Ok(Exported::single(out))
 }
