@@ -246,13 +246,20 @@ pub fn parse(path: &Path, text: &str) -> Result<Config, Box<ConfigError>> {
                     .help(Some("the levels are `allow`, `warn` and `deny`".to_owned())));
             }
         };
-        if !crate::suppress::allowable(c) && l != Level::Deny {
+        if !allowable(c) && l != Level::Deny {
             return Err(err(code.span(), format!("`{}` cannot be lowered", c.as_str()))
                 .help(Some("it says that a verdict is missing: hiding it would let a check pass unverified".to_owned())));
         }
         config.levels.insert(c, l);
     }
     Ok(config)
+}
+
+/// Whether `code` may be allowed or lowered to a warning: not
+/// `incomplete`, which says that a verdict is missing (hiding it would let
+/// a check pass unverified).
+pub fn allowable(code: Code) -> bool {
+    code != Code::Incomplete
 }
 
 /// The code with this stable name.

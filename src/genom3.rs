@@ -11,7 +11,9 @@ use std::time::Instant;
 use genom_genom3::Genom3Options;
 use genom_model::{Assumption, Dialect, Severity};
 
-use crate::pipeline::{CheckOptions, CheckResult, InputError, Inputs, display};
+use genom_checker::CheckOptions;
+
+use crate::types::{CheckResult, InputError, Inputs, display};
 
 /// Checks GenoM3 text read from `path`. Fails only when the WCET file
 /// cannot be read.

@@ -6,8 +6,7 @@
 pub mod explain;
 mod genom3;
 mod pipeline;
+mod types;
 
-pub use pipeline::{
-    CheckOptions, CheckResult, InputError, Inputs, check_file, check_path, check_source,
-    check_text, detect, display, is_stdin,
-};
+pub use pipeline::{CheckOptions, check_file, check_path, check_source, check_text, detect};
+pub use types::{CheckResult, InputError, Inputs, display, is_stdin};

@@ -9,6 +9,7 @@ mod allocator;
 mod cli;
 mod commands;
 mod config;
+mod exit;
 mod lsp;
 mod output;
 mod suppress;

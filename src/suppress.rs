@@ -15,7 +15,7 @@ use genom_check::CheckResult;
 use genom_model::span::SourceFile;
 use genom_model::{Code, Severity};
 
-use crate::config::{Level, code_named};
+use crate::config::{Level, allowable, code_named};
 
 /// The marker of an inline allow.
 const MARKER: &str = "genom-check: allow(";
@@ -55,11 +55,6 @@ pub fn apply(result: &mut CheckResult, levels: &BTreeMap<Code, Level>) -> Result
         }
     });
     Ok(())
-}
-
-/// Whether `code` may be allowed (see the module doc).
-pub fn allowable(code: Code) -> bool {
-    code != Code::Incomplete
 }
 
 /// The inline allows of one source file.

@@ -7,6 +7,7 @@ pub mod behaviour;
 pub mod component;
 pub mod diagnostic;
 pub mod dialect;
+mod duration;
 pub mod kinds;
 pub mod limits;
 pub mod loader;

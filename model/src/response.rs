@@ -61,7 +61,7 @@ impl Bound {
     /// The bound as people read it: `12ms`, `≤ 30.02s`, `> 1s`,
     /// `unbounded`, `unknown`.
     pub fn human(self) -> String {
-        use crate::render::human::format_ns;
+        use crate::duration::format_ns;
         match self {
             Bound::Exact(n) => format_ns(n),
             Bound::AtMost(n) => format!("≤ {}", format_ns(n)),

@@ -8,13 +8,7 @@ mod export;
 mod generate;
 
 use crate::cli::{Cli, Command};
-
-/// No error.
-pub const EXIT_OK: u8 = 0;
-/// Errors found (or warnings with `--deny warnings`).
-pub const EXIT_ERRORS: u8 = 1;
-/// Usage or I/O problem.
-pub const EXIT_USAGE: u8 = 2;
+pub use crate::exit::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// Runs the command line. A failed write to stdout (other than a closed
 /// pipe) is an I/O problem: reported, and the status is 2.

@@ -43,7 +43,7 @@ use lsp_types::{
 
 use self::check::{Document, Done, Job, Settings};
 use crate::cli::LspArgs;
-use crate::commands::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
+use crate::exit::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 type Fallible<T> = Result<T, Box<dyn Error + Send + Sync>>;
 

@@ -20,7 +20,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_check::{CheckOptions, check_source};
-use genom_engine::engine::analysis::{analyse_with, clusters};
+use genom_engine::engine::analyse_with;
+use genom_engine::engine::analysis::clusters;
 use genom_engine::engine::explore::{Limits, explore};
 use genom_engine::engine::system::System;
 use genom_generate::{GeneratorConfig, generate};

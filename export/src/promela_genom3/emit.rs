@@ -2,7 +2,8 @@
 //! variables, the reachability markers, the inlines shared by every step
 //! (`flag_A`: an interruption of activity `A`'s instance; `settle`: the
 //! boot order, the re-examination of pending interrupters, the shutdown
-//! sequence), then the one process (its steps come from [`super::steps`]).
+//! sequence), then the one process (its steps, from [`super::steps`], are
+//! given).
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -41,9 +42,10 @@ impl<'a> Model<'a> {
         format!("m_{n} = 1")
     }
 
-    /// The whole text after the header.
-    pub fn write(mut self) -> String {
-        let process = self.process();
+    /// The whole text after the header, the process offering `options`
+    /// (the steps, which allocated their markers in this model).
+    pub fn write(self, options: Vec<String>) -> String {
+        let process = Self::process(options);
         let mut out = String::new();
         constants(&mut out);
         self.declarations(&mut out);
@@ -246,8 +248,7 @@ impl<'a> Model<'a> {
     }
 
     /// The process: every step, then the loop head.
-    fn process(&mut self) -> String {
-        let options = super::steps::options(self);
+    fn process(options: Vec<String>) -> String {
         let mut out = String::from(
             "/* the component: every transition of docs/genom3-semantics.md 14.2 */\n\
              active proctype component() {\n  atomic { settle() };\nend:\n  do\n  :: atomic {\n     if\n",

@@ -50,7 +50,9 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     supported(&r).map_err(unsupported)?;
     let mut out = String::new();
     header(&mut out, input);
-    let body = emit::Model::new(c, &r).write();
+    let mut model = emit::Model::new(c, &r);
+    let options = steps::options(&mut model);
+    let body = model.write(options);
     out.push_str(&body);
     Ok(Exported::single(out))
 }
@@ -87,7 +89,7 @@ fn supported(r: &Reading) -> Result<(), String> {
 }
 
 fn header(out: &mut String, input: &ExportInput<'_>) {
-    crate::promela::opening(out, input, "GenoM3's untimed semantics");
+    crate::promela_opening(out, input, "GenoM3's untimed semantics");
     out.push_str(
         " *\n\
          \x20* docs/genom3-semantics.md section 14: any interleaving of the permanent\n\

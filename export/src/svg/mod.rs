@@ -25,6 +25,7 @@
 //! text is escaped, numbers have one decimal, and the output is
 //! deterministic. Laying out cannot fail (see docs/exports/diagrams.md).
 
+mod geometry;
 mod layout;
 mod render;
 mod route;
@@ -33,7 +34,7 @@ use std::fmt::Write as _;
 
 use genom_model::kinds::CodelKind;
 
-use self::layout::{ClusterIn, EdgeIn, Input, Layout, NodeIn, Rect};
+use self::geometry::{ClusterIn, EdgeIn, Input, Layout, NodeIn, Rect};
 use self::render::{Canvas, FONT, SMALL, TextStyle, block_size, line_height, text_width};
 use crate::dot::{Diagrams, EdgeKind, Machine, NodeKind, Rule};
 use crate::pnml::{comment, text, tool_version};

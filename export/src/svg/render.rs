@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use super::layout::{Point, Rect, Route};
+use super::geometry::{Point, Rect, Route};
 use crate::pnml::{attr, text};
 
 /// The font size of node labels, in pixels.

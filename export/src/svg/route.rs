@@ -3,7 +3,7 @@
 //! and straight lines through dummy slots, self-loops on the right side of
 //! their node, and label spots clear of each other.
 
-use super::layout::{Input, Point, Rect, Route, Vertex};
+use super::geometry::{Input, Point, Rect, Route, Vertex};
 
 /// How far the first self-loop of a node reaches, and each next one more.
 const LOOP: f64 = 20.0;

@@ -13,6 +13,7 @@ use miette::{
 
 use super::{FileReport, escaped, escaped_keeping_lines};
 use crate::diagnostic::{Counts, Diagnostic, Severity};
+pub use crate::duration::format_ns;
 use crate::span::{FileId, SourceMap, Span};
 use crate::trace::{Event, Trace};
 
@@ -217,25 +218,6 @@ fn location(sources: &SourceMap, span: Span) -> String {
     };
     let (line, _) = file.line_col(loc.offset);
     format!("  ({}:{line})", escaped(&file.display_path()))
-}
-
-/// Formats nanoseconds with the largest unit that divides them exactly.
-pub fn format_ns(ns: u64) -> String {
-    const UNITS: [(u64, &str); 4] = [
-        (60_000_000_000, "min"),
-        (1_000_000_000, "s"),
-        (1_000_000, "ms"),
-        (1_000, "us"),
-    ];
-    if ns == 0 {
-        return "0".to_owned();
-    }
-    for (factor, unit) in UNITS {
-        if ns % factor == 0 {
-            return format!("{}{unit}", ns / factor);
-        }
-    }
-    format!("{ns}ns")
 }
 
 /// Adapts a diagnostic to miette: labels in the primary file are shown in

@@ -14,7 +14,6 @@ use genom_model::trace::{Event, Trace, TraceStep};
 pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
 use super::explore::{Exploration, Limits, Stop, explore};
-use super::method::{Decided, Method, decide_cluster};
 use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 use super::witness::replay;
@@ -62,6 +61,19 @@ pub struct Blocked {
     pub reason: String,
     /// A trace showing it blocked or rejected.
     pub trace: Trace,
+}
+
+/// What decided one cluster (or the pre-init phase).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Decided {
+    /// The services explored.
+    pub services: Vec<ServiceId>,
+    /// How.
+    pub method: Decider,
+    /// States stored (symbolic: configurations in the reachable set).
+    pub states: u64,
+    /// Whether that exploration finished.
+    pub complete: bool,
 }
 
 /// Everything the explorations established.
@@ -122,57 +134,9 @@ pub(crate) struct Witnesses<'w> {
     pub(crate) complete: bool,
 }
 
-/// Explores the component and gathers every behavioural fact, with
-/// partial-order reduction.
-pub fn analyse(c: &Component, limits: Limits) -> Analysis {
-    analyse_with(c, limits, true)
-}
-
-/// [`analyse`], with partial-order reduction (`reduce`) or exploring every
-/// interleaving.
-pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
-    let method = if reduce {
-        Method::Auto
-    } else {
-        Method::Exhaustive
-    };
-    analyse_using(c, limits, method)
-}
-
-/// [`analyse`] with the given exploration method.
-pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis {
-    let b = Behaviour::new(c);
-    let all: Vec<ServiceId> = c.services.ids().collect();
-    let global = System::new(c, &b, &all, false);
-    let mut out = Analysis::default();
-    let mut budget = limits;
-    let (prefix, post_init) = match c.init_service() {
-        Some(init) => pre_init(c, &b, init, &global, &mut budget, &mut out),
-
-        None => (Vec::new(), Some(true)),
-    };
-    match post_init {
-        Some(true) => {
-            let whole = Whole {
-                c,
-                b: &b,
-                prefix: &prefix,
-                global: &global,
-            };
-            for cluster in clusters(c) {
-                out.absorb(decide_cluster(&whole, &cluster, method, &mut budget));
-            }
-        }
-        Some(false) => {}
-        None => out.unproven.extend(all.iter().copied()),
-    }
-    dead_services(c, &global, post_init, &mut out);
-    out
-}
-
 /// Explores the init service alone until it completes. Returns the path to
 /// its first success and whether it can succeed (`None`: unknown).
-fn pre_init(
+pub(super) fn pre_init(
     c: &Component,
     b: &Behaviour,
     init: ServiceId,
@@ -439,7 +403,7 @@ fn explore_part(
 impl Analysis {
     /// Adds everything `other` established (explorations of disjoint
     /// services).
-    fn absorb(&mut self, other: Analysis) {
+    pub(super) fn absorb(&mut self, other: Analysis) {
         self.reached.extend(other.reached);
         self.started.extend(other.started);
         self.deadlocks.extend(other.deadlocks);
@@ -608,7 +572,12 @@ pub(crate) fn finish_dead(c: &Component, global: &System<'_>, out: &mut Analysis
 /// Services that never start, when the explorations that could start them
 /// finished. When initialisation can never complete, every other service is
 /// dead: its requests are rejected with `NOT_INITIALIZED`.
-fn dead_services(c: &Component, global: &System<'_>, post_init: Option<bool>, out: &mut Analysis) {
+pub(super) fn dead_services(
+    c: &Component,
+    global: &System<'_>,
+    post_init: Option<bool>,
+    out: &mut Analysis,
+) {
     let mut candidates = std::mem::take(&mut out.dead_candidates);
     for s in c.services.ids() {
         if out.started.contains(&s) || out.unproven.contains(&s) || post_init.is_none() {

@@ -1,5 +1,7 @@
-//! Which engine explores each cluster (`--engine explicit|symbolic|auto`),
-//! and the record of what decided each one, for the statistics.
+//! The untimed exploration of a component ([`analyse`]: the pre-init
+//! phase, then each cluster), which engine explores each cluster
+//! (`--engine explicit|symbolic|auto`), and the record of what decided
+//! each one, for the statistics.
 //!
 //! The explicit explorer, with its partial-order reduction and its part by
 //! part exploration, is the default for every cluster: measured on the
@@ -13,10 +15,15 @@
 
 use std::time::{Duration, Instant};
 
-use genom_model::component::ServiceId;
+use genom_model::behaviour::Behaviour;
+use genom_model::component::{Component, ServiceId};
 use genom_model::stats::Method as Decider;
 
-use super::analysis::{Analysis, Whole, explore_cluster, explore_parts, first_try_whole};
+use super::analysis::{
+    Analysis, Decided, Whole, dead_services, explore_cluster, explore_parts, first_try_whole,
+    pre_init,
+};
+use super::clusters::clusters;
 use super::explore::{Limits, Stop};
 use super::system::System;
 use crate::symbolic::{Strategy, SymbolicLimits};
@@ -45,19 +52,6 @@ pub enum Method {
     /// Whole, with the stubborn sets of the partial-order reduction alone:
     /// no probes, no stop once every fact is found (for tests).
     StubbornOnly,
-}
-
-/// What decided one cluster (or the pre-init phase).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Decided {
-    /// The services explored.
-    pub services: Vec<ServiceId>,
-    /// How.
-    pub method: Decider,
-    /// States stored (symbolic: configurations in the reachable set).
-    pub states: u64,
-    /// Whether that exploration finished.
-    pub complete: bool,
 }
 
 /// The least time a symbolic exploration after an unfinished explicit one
@@ -92,8 +86,56 @@ fn explicit_decider(method: Method, parts: bool) -> Decider {
     }
 }
 
+/// Explores the component and gathers every behavioural fact, with
+/// partial-order reduction.
+pub fn analyse(c: &Component, limits: Limits) -> Analysis {
+    analyse_with(c, limits, true)
+}
+
+/// [`analyse`], with partial-order reduction (`reduce`) or exploring every
+/// interleaving.
+pub fn analyse_with(c: &Component, limits: Limits, reduce: bool) -> Analysis {
+    let method = if reduce {
+        Method::Auto
+    } else {
+        Method::Exhaustive
+    };
+    analyse_using(c, limits, method)
+}
+
+/// [`analyse`] with the given exploration method.
+pub fn analyse_using(c: &Component, limits: Limits, method: Method) -> Analysis {
+    let b = Behaviour::new(c);
+    let all: Vec<ServiceId> = c.services.ids().collect();
+    let global = System::new(c, &b, &all, false);
+    let mut out = Analysis::default();
+    let mut budget = limits;
+    let (prefix, post_init) = match c.init_service() {
+        Some(init) => pre_init(c, &b, init, &global, &mut budget, &mut out),
+
+        None => (Vec::new(), Some(true)),
+    };
+    match post_init {
+        Some(true) => {
+            let whole = Whole {
+                c,
+                b: &b,
+                prefix: &prefix,
+                global: &global,
+            };
+            for cluster in clusters(c) {
+                out.absorb(decide_cluster(&whole, &cluster, method, &mut budget));
+            }
+        }
+        Some(false) => {}
+        None => out.unproven.extend(all.iter().copied()),
+    }
+    dead_services(c, &global, post_init, &mut out);
+    out
+}
+
 /// Explores one cluster with `method`: the result, with what decided it.
-pub(super) fn decide_cluster(
+fn decide_cluster(
     w: &Whole<'_>,
     cluster: &[ServiceId],
     method: Method,

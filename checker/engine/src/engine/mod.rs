@@ -32,6 +32,6 @@ pub(crate) mod witness;
 #[cfg(test)]
 mod speed_tests;
 
-pub use analysis::{Analysis, Blocked, analyse, analyse_using, analyse_with};
+pub use analysis::{Analysis, Blocked, Decided};
 pub use explore::{Limits, Stop};
-pub use method::{Decided, Method};
+pub use method::{Method, analyse, analyse_using, analyse_with};

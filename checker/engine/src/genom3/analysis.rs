@@ -14,6 +14,7 @@ use super::machine::{Fsm, Machine, Owner, Target};
 use super::parts::{Part, parts};
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
+use super::trace::describe;
 use crate::engine::explore::{Limits, Model, Stop, explore};
 use crate::engine::store::StateId;
 
@@ -391,17 +392,6 @@ fn lasso(engine: &Engine<'_>, path: &[G3Action], owner: Owner, cycle: &Cycle) ->
     trace.steps.push(v);
     trace.loop_start = Some(loop_start);
     trace
-}
-
-/// `activity `a`` or `the permanent activity of task `t``.
-pub fn describe(engine: &Engine<'_>, owner: Owner) -> String {
-    match owner {
-        Owner::Activity(a) => format!("activity `{}`", engine.m.activity_name(a)),
-        Owner::Task(t) => format!(
-            "the permanent activity of task `{}`",
-            engine.m.tasks[t].name
-        ),
-    }
 }
 
 /// `` `a` → `b` → `a` `` for a round of states.

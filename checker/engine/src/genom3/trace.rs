@@ -183,7 +183,7 @@ pub(crate) fn codel_text(
     let fsm = engine.m.fsm(owner);
     let to = outcome_name(engine, owner, state, o);
     let mut s = codel_step(engine, owner, state, &to);
-    let who = super::analysis::describe(engine, owner);
+    let who = describe(engine, owner);
     let st = &fsm.states[usize::from(state)];
     let yields = match fsm.states[usize::from(state)].yields.get(usize::from(o)) {
         Some(Target::State { pause: true, .. }) => {
@@ -260,5 +260,16 @@ pub fn outcome_name(engine: &Engine<'_>, owner: Owner, state: u8, o: u8) -> Stri
         }
         Some(Target::Ether) => "ether".to_owned(),
         None => "exception".to_owned(),
+    }
+}
+
+/// `activity `a`` or `the permanent activity of task `t``.
+pub fn describe(engine: &Engine<'_>, owner: Owner) -> String {
+    match owner {
+        Owner::Activity(a) => format!("activity `{}`", engine.m.activity_name(a)),
+        Owner::Task(t) => format!(
+            "the permanent activity of task `{}`",
+            engine.m.tasks[t].name
+        ),
     }
 }

@@ -7,13 +7,10 @@
 //! in one service's graph is otherwise only seen after every shallower
 //! interleaving of every service). Probes only give facts without a trace.
 
-use std::collections::BTreeSet;
-
-use genom_model::component::{CodelId, ServiceId};
-
 use super::tables::{Set, bit, members};
 use crate::engine::explore::{Limits, Model, explore};
 use crate::engine::store::StateId;
+pub use crate::engine::system::Probed;
 use crate::engine::system::{Action, Config, System};
 
 /// States a probe of one member stores at most.
@@ -62,17 +59,6 @@ impl Model for Restricted<'_, '_> {
         self.sys.decode_into(words, zone, out);
     }
     fn zone(&self, _: &Config) {}
-}
-
-/// What the probes of a system found, and the states they stored.
-#[derive(Debug, Default)]
-pub struct Probed {
-    /// Codels seen running, or (control codels) whose request was enabled.
-    pub reached: BTreeSet<CodelId>,
-    /// Members seen started, with their service.
-    pub started: BTreeSet<(usize, ServiceId)>,
-    /// States stored over all probes.
-    pub states: u64,
 }
 
 /// Probes each member of `wanted` (members of `sys`, at most 64, no

@@ -18,6 +18,8 @@ mod steps;
 #[cfg(test)]
 mod tests;
 
+use std::collections::BTreeSet;
+
 use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
 use genom_model::component::{CodelId, Component, ServiceId, StructureId, ThreadId};
 use genom_model::trace::TraceStep;
@@ -149,6 +151,17 @@ pub struct System<'a> {
     cycle_members: u64,
 }
 
+/// What the probes of a system found, and the states they stored.
+#[derive(Debug, Default)]
+pub struct Probed {
+    /// Codels seen running, or (control codels) whose request was enabled.
+    pub reached: BTreeSet<CodelId>,
+    /// Members seen started, with their service.
+    pub started: BTreeSet<(usize, ServiceId)>,
+    /// States stored over all probes.
+    pub states: u64,
+}
+
 /// A partial-order reduction of a system's steps (the one of
 /// `super::reduction` attaches itself with `System::with_reduction`).
 pub trait Reduce: std::fmt::Debug {
@@ -167,11 +180,7 @@ pub trait Reduce: std::fmt::Debug {
     fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
     /// Runs the reduction's probes (default: none), which find facts
     /// without a trace before the search.
-    fn probe(
-        &self,
-        _sys: &System<'_>,
-        _limits: crate::engine::explore::Limits,
-    ) -> Option<crate::engine::reduction::probe::Probed> {
+    fn probe(&self, _sys: &System<'_>, _limits: crate::engine::explore::Limits) -> Option<Probed> {
         None
     }
 }
@@ -279,10 +288,7 @@ impl<'a> System<'a> {
 
     /// Runs the reduction's probes, if any (see
     /// [`crate::engine::reduction::probe`]).
-    pub fn probe(
-        &self,
-        limits: crate::engine::explore::Limits,
-    ) -> Option<crate::engine::reduction::probe::Probed> {
+    pub fn probe(&self, limits: crate::engine::explore::Limits) -> Option<Probed> {
         self.reduction.as_ref().and_then(|r| r.probe(self, limits))
     }
 

@@ -16,9 +16,9 @@ use super::trace::timed_trace;
 use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
 use crate::engine::explore::{Limits, Stop, explore};
 use crate::engine::store::StateId;
-use crate::genom3::analysis::describe;
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
+use crate::genom3::trace::describe;
 
 /// A task that can overrun for one cause, with its trace.
 #[derive(Debug, Clone)]

@@ -185,7 +185,7 @@ fn task_codel_step(
     let st = &m.fsm(owner).states[usize::from(state)];
     let text = format!(
         "{} {}",
-        crate::genom3::analysis::describe(&te.e, owner),
+        crate::genom3::trace::describe(&te.e, owner),
         what(st)
     );
     let mut s = TraceStep::new(event, text);
