@@ -84,6 +84,14 @@ pub enum Limit {
 }
 
 impl Limit {
+    /// The option that sets it: `--timeout`.
+    pub fn option(self) -> &'static str {
+        match self {
+            Limit::Time => "--timeout",
+            Limit::Memory => "--max-memory",
+        }
+    }
+
     /// How a message names it: `time limit (--timeout)`.
     pub fn describe(self) -> &'static str {
         match self {
@@ -156,10 +164,7 @@ pub fn out_of_time(deadline: Option<Instant>) -> bool {
 /// `incomplete`: `limit` passed while a front-end was parsing, at `at`;
 /// the rest of the text was not read and nothing was checked.
 pub fn parsing_stopped(at: Span, limit: Limit) -> Diagnostic {
-    let raise = match limit {
-        Limit::Time => "--timeout",
-        Limit::Memory => "--max-memory",
-    };
+    let raise = limit.option();
     Diagnostic::new(
         Code::Incomplete,
         format!(
@@ -178,10 +183,7 @@ pub fn parsing_stopped(at: Span, limit: Limit) -> Diagnostic {
 /// `left` names the checks that did not run; nothing behavioural ran
 /// either.
 pub fn static_stopped(at: Span, limit: Limit, left: &[&str]) -> Diagnostic {
-    let raise = match limit {
-        Limit::Time => "--timeout",
-        Limit::Memory => "--max-memory",
-    };
+    let raise = limit.option();
     Diagnostic::new(
         Code::Incomplete,
         format!(

@@ -43,25 +43,17 @@ pub fn excessive_nesting(text: &str, limit: usize) -> Option<usize> {
     let mut minus_run = 0usize;
     let mut i = 0;
     while i < bytes.len() {
-        match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i = text[i + 2..]
-                    .find("*/")
-                    .map_or(bytes.len(), |j| i + 2 + j + 2);
-                continue;
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                i = text[i..].find('\n').map_or(bytes.len(), |j| i + j);
-                continue;
-            }
-            b' ' | b'\t' | b'\r' | b'\n' => {
-                i += 1;
-                continue;
-            }
-            quote @ (b'"' | b'\'') => {
-                i = skip_quoted(bytes, i + 1, quote);
+        if let Some(after) = skip_trivia(text, i) {
+            if matches!(bytes[i], b'"' | b'\'') {
                 after_type_keyword = false;
                 minus_run = 0;
+            }
+            i = after;
+            continue;
+        }
+        match bytes[i] {
+            b' ' | b'\t' | b'\r' | b'\n' => {
+                i += 1;
                 continue;
             }
             b if b.is_ascii_alphabetic() || b == b'_' => {
@@ -102,6 +94,24 @@ pub fn excessive_nesting(text: &str, limit: usize) -> Option<usize> {
         i += 1;
     }
     None
+}
+
+/// When a comment, string or character literal starts at byte `i` of
+/// `text`: the offset just after it (a line comment ends before its line
+/// end; an unterminated one ends the text). Both front-ends' scans skip
+/// what this skips.
+pub fn skip_trivia(text: &str, i: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    match (bytes.get(i)?, bytes.get(i + 1)) {
+        (b'/', Some(b'*')) => Some(
+            text.get(i + 2..)?
+                .find("*/")
+                .map_or(bytes.len(), |j| i + 2 + j + 2),
+        ),
+        (b'/', Some(b'/')) => Some(text.get(i..)?.find('\n').map_or(bytes.len(), |j| i + j)),
+        (&quote @ (b'"' | b'\''), _) => Some(skip_quoted(bytes, i + 1, quote)),
+        _ => None,
+    }
 }
 
 /// The offset just past the literal opened before `i` by `quote` (at the

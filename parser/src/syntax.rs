@@ -205,21 +205,11 @@ fn unclosed_brace(text: &str) -> Option<usize> {
     let mut open = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
+        if let Some(after) = genom_model::nesting::skip_trivia(text, i) {
+            i = after;
+            continue;
+        }
         match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i = text[i + 2..]
-                    .find("*/")
-                    .map_or(bytes.len(), |j| i + 2 + j + 2);
-                continue;
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                i = text[i..].find('\n').map_or(bytes.len(), |j| i + j);
-                continue;
-            }
-            b'"' => {
-                i = skip_string(bytes, i + 1);
-                continue;
-            }
             b'{' => open.push(i),
             b'}' => {
                 open.pop();
@@ -321,17 +311,6 @@ fn starts_item(line: &str) -> bool {
                 && next.is_some_and(|c| c.is_ascii_alphabetic() || c == '_' || c == ':')
         }
     }
-}
-
-fn skip_string(bytes: &[u8], mut i: usize) -> usize {
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\\' => i += 2,
-            b'"' | b'\n' => return i + 1,
-            _ => i += 1,
-        }
-    }
-    i
 }
 
 #[cfg(test)]
