@@ -111,15 +111,13 @@ fn interrupters(c: &Component) -> BTreeMap<ServiceId, Interrupter<'_>> {
 /// Reports every start and exec codel without `on-inter` of every
 /// interruptible service with a start codel.
 ///
-/// Not run on GenoM3 components: an interrupted GenoM3 activity runs its
+/// Not run on GenoM3 components (`checks::run` registers it for the
+/// dialect only): an interrupted GenoM3 activity runs its
 /// `stop` codel when it has one and otherwise ends at once; most real
 /// activities have none, and advising one for every interruptible activity
 /// would flood real components (21 advices on `rotorcraft.gen`).
 pub fn check(c: &Component) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    if c.genom3.is_some() {
-        return out;
-    }
     let interrupters = interrupters(c);
     for (id, service) in c.services.iter() {
         if service.start.is_none() {

@@ -50,30 +50,63 @@ use crate::timed::TimedFacts;
 /// A static check: the model in, its findings out.
 type StaticCheck = fn(&Component) -> Vec<Diagnostic>;
 
+/// Which components a static check applies to: the one place that says it
+/// (a check never tests the component's language itself to skip it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Applies {
+    /// Every component.
+    Always,
+    /// LANGUAGE.md components only (the reason is in the check's docs).
+    DialectOnly,
+}
+
 /// The static checks, in the order they run, with the words that name
-/// them when a limit stops the phase before them.
-const STATIC_CHECKS: [(&str, StaticCheck); 11] = [
-    ("recursive types", recursive_type::check),
-    ("codel prototypes", prototype_mismatch::check),
-    ("update rules", update_rules::check),
-    ("codel reachability", unreachable_codel::check),
-    ("termination", no_termination::check),
-    ("auto services", auto_terminates::check),
-    ("unused reports", unused_report::check),
-    ("on-inter cleanup", missing_on_inter::check),
-    ("privilege escalation", privilege_escalation::check),
-    ("codel overruns", codel_overrun::check),
-    ("missing WCETs", missing_wcet::check),
+/// them when a limit stops the phase before them and the components they
+/// apply to.
+const STATIC_CHECKS: [(&str, Applies, StaticCheck); 11] = [
+    ("recursive types", Applies::Always, recursive_type::check),
+    (
+        "codel prototypes",
+        Applies::Always,
+        prototype_mismatch::check,
+    ),
+    ("update rules", Applies::Always, update_rules::check),
+    (
+        "codel reachability",
+        Applies::Always,
+        unreachable_codel::check,
+    ),
+    ("termination", Applies::Always, no_termination::check),
+    ("auto services", Applies::Always, auto_terminates::check),
+    ("unused reports", Applies::DialectOnly, unused_report::check),
+    (
+        "on-inter cleanup",
+        Applies::DialectOnly,
+        missing_on_inter::check,
+    ),
+    (
+        "privilege escalation",
+        Applies::Always,
+        privilege_escalation::check,
+    ),
+    ("codel overruns", Applies::Always, codel_overrun::check),
+    ("missing WCETs", Applies::Always, missing_wcet::check),
 ];
 
-/// Runs every check on the resolved model. Each is linear in the model
-/// (plus what it reports); `watch` is looked at between two checks, and a
-/// limit passed ends the phase with `incomplete` naming the checks left.
+/// Runs every check that applies to the resolved model. Each is linear in
+/// the model (plus what it reports); `watch` is looked at between two
+/// checks, and a limit passed ends the phase with `incomplete` naming the
+/// checks left.
 pub fn run(component: &Component, watch: &Watch) -> Vec<Diagnostic> {
+    let is_genom3 = component.genom3.is_some();
+    let applying: Vec<&(&str, Applies, StaticCheck)> = STATIC_CHECKS
+        .iter()
+        .filter(|(_, applies, _)| !(is_genom3 && *applies == Applies::DialectOnly))
+        .collect();
     let mut out = Vec::new();
-    for (i, (_, check)) in STATIC_CHECKS.iter().enumerate() {
+    for (i, (_, _, check)) in applying.iter().enumerate() {
         if let Some(limit) = watch.exceeded() {
-            let left: Vec<&str> = STATIC_CHECKS[i..].iter().map(|(name, _)| *name).collect();
+            let left: Vec<&str> = applying[i..].iter().map(|(name, _, _)| *name).collect();
             out.push(genom_model::limits::static_stopped(
                 component.name.span,
                 limit,
@@ -130,6 +163,29 @@ mod watch_tests {
             run(&c, &Watch::unlimited())
                 .iter()
                 .all(|d| d.code != Code::Incomplete)
+        );
+    }
+
+    /// The registry, not the check, leaves the dialect-only checks out of a
+    /// GenoM3 component: `missing-on-inter` would fire on this activity
+    /// (interrupted, without a `stop` codel), and `run` does not run it.
+    #[test]
+    fn dialect_only_checks_are_left_out_of_genom3_components_by_the_registry() {
+        let text = "component c {
+  exception oops;
+  task t { period 10 ms; };
+  activity a() { task t; throw oops; codel<start> go() yield pause::start, ether; };
+  activity b() { task t; interrupts a; codel<start> h() yield ether; };
+};
+";
+        let c = genom_genom3::load_clean(text, None).unwrap_or_default();
+        assert!(c.genom3.is_some(), "a GenoM3 component");
+        assert!(!missing_on_inter::check(&c).is_empty(), "the check fires");
+        let found = run(&c, &Watch::unlimited());
+        let skipped = [Code::MissingOnInter, Code::UnusedReport];
+        assert!(
+            found.iter().all(|d| !skipped.contains(&d.code)),
+            "{found:?}"
         );
     }
 }

@@ -62,14 +62,12 @@ fn produced(c: &Component, service: &Service, index: usize) -> bool {
 /// Reports every report of a service without control codel that no codel
 /// lists in `next`.
 ///
-/// Not run on GenoM3 components: their codels throw exceptions from their C
+/// Not run on GenoM3 components (`checks::run` registers it for the
+/// dialect only): their codels throw exceptions from their C
 /// code (`genom_throw_…`), which the `.gen` file does not show, so a declared
 /// exception that no `yield` names may still be thrown.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    if c.genom3.is_some() {
-        return out;
-    }
     for service in c.services.values() {
         // A `next` naming nothing may be a misspelt report: not unused.
         if service.control.is_some() || service.unresolved_next {
