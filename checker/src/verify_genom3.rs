@@ -70,19 +70,17 @@ pub fn verify_genom3(
         ));
     }
     let (mut states, mut transitions) = (analysis.states, analysis.transitions);
-    let all: Vec<String> = c
-        .services
-        .iter()
-        .map(|(_, s)| s.name.name.clone())
-        .collect();
+    let names = |tasks: &[usize], services: &[ServiceId]| -> Vec<String> {
+        let tasks = tasks.iter().map(|&t| format!("task {}", m.tasks[t].name));
+        let services = services.iter().map(|&s| m.service_name(s).to_owned());
+        tasks.chain(services).collect()
+    };
     let mut decided_by: Vec<Decision> = analysis
         .parts
         .iter()
         .map(|p| {
-            let services = p.services.iter().map(|&s| m.service_name(s).to_owned());
-            let tasks = p.tasks.iter().map(|&t| format!("task {}", m.tasks[t].name));
-            let names = tasks.chain(services).collect();
-            Decision::new(names, Decider::Exhaustive, p.states, p.complete)
+            let who = names(&p.tasks, &p.services);
+            Decision::new(who, Decider::Exhaustive, p.states, p.complete)
         })
         .collect();
     let mut long_codels = Vec::new();
@@ -90,12 +88,10 @@ pub fn verify_genom3(
     if timed {
         match analyse_timing(&m, options.limits(started)) {
             Some(timing) => {
-                decided_by.push(Decision::new(
-                    all,
-                    Decider::Zones,
-                    timing.states,
-                    timing.stopped.is_none(),
-                ));
+                decided_by.extend(timing.records.iter().map(|g| {
+                    let who = names(&g.tasks, &g.services);
+                    Decision::new(who, Decider::Zones, g.states, g.complete)
+                }));
                 out.extend(thread_overrun::check_genom3(&m, &timing));
                 long_codels = codel_overrun::genom3_traces(&m, &timing);
                 if let Some(stop) = timing.stopped {

@@ -139,7 +139,7 @@ fn genom3_behaviour_is_explored_and_its_timing_checked() {
 /// `decided_by` gives one entry per part of the untimed exploration: the
 /// permanent activities, then each group of linked services (here `halt`
 /// interrupts `move`; `ping` stands alone), with its states; with WCETs,
-/// one `zones` entry follows over every service.
+/// one `zones` entry per group of coupled tasks follows.
 #[test]
 fn each_part_says_how_it_was_decided() {
     let dir = tempfile::tempdir().unwrap();
@@ -173,6 +173,18 @@ fn each_part_says_how_it_was_decided() {
     let sum: u64 = decided.iter().map(|d| d["states"].as_u64().unwrap()).sum();
     assert_eq!(Some(sum), file["statistics"]["states"].as_u64());
     assert!(decided[1]["states"].as_u64() > decided[2]["states"].as_u64());
+    // With WCETs: then one `zones` entry per group of coupled tasks, each
+    // naming its tasks first; the figures add up to the total.
+    let (_, file) = json(&["--wcet", DEMO_WCET, DEMO]);
+    let decided = file["statistics"]["decided_by"].as_array().unwrap();
+    let zones: Vec<&Value> = decided.iter().filter(|d| d["engine"] == "zones").collect();
+    let tasks: Vec<&str> = zones
+        .iter()
+        .map(|d| d["services"][0].as_str().unwrap())
+        .collect();
+    assert_eq!(tasks, ["task main", "task io"], "{decided:#?}");
+    let sum: u64 = decided.iter().map(|d| d["states"].as_u64().unwrap()).sum();
+    assert_eq!(Some(sum), file["statistics"]["states"].as_u64());
 }
 
 #[test]

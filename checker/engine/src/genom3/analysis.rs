@@ -11,7 +11,7 @@ use petgraph::algo::tarjan_scc;
 use petgraph::graphmap::DiGraphMap;
 
 use super::machine::{Fsm, Machine, Owner, Target};
-use super::parts::{Part, parts};
+use super::parts::parts;
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use super::trace::describe;
@@ -155,7 +155,7 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
             });
         }
         out.parts.push(PartRecord {
-            services: requested(&engine.m, &part),
+            services: engine.m.requested(&part.acts, &part.ctls),
             tasks: (0..engine.m.tasks.len())
                 .filter(|&t| perms && engine.m.tasks[t].perm.is_some())
                 .collect(),
@@ -180,25 +180,6 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
     out.started.extend(out.completed.iter().copied());
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
-    out
-}
-
-/// The services `part` requests, in service order, but the built-in ones.
-fn requested(m: &Machine<'_>, part: &Part) -> Vec<ServiceId> {
-    let acts = m
-        .activities
-        .iter()
-        .zip(&part.acts)
-        .filter(|(_, on)| **on)
-        .map(|(a, _)| a.service);
-    let ctls = m
-        .controls
-        .iter()
-        .zip(&part.ctls)
-        .filter(|(k, on)| **on && !k.builtin)
-        .map(|(k, _)| k.service);
-    let mut out: Vec<ServiceId> = acts.chain(ctls).collect();
-    out.sort_unstable();
     out
 }
 

@@ -274,6 +274,27 @@ pub enum Role {
 pub const POOL: usize = 32;
 
 impl<'a> Machine<'a> {
+    /// The services an exploration requests (per activity `acts`, per
+    /// control service `ctls`), in service order, but the built-in ones
+    /// every exploration has.
+    pub fn requested(&self, acts: &[bool], ctls: &[bool]) -> Vec<ServiceId> {
+        let acts = self
+            .activities
+            .iter()
+            .zip(acts)
+            .filter(|(_, on)| **on)
+            .map(|(a, _)| a.service);
+        let ctls = self
+            .controls
+            .iter()
+            .zip(ctls)
+            .filter(|(k, on)| **on && !k.builtin)
+            .map(|(k, _)| k.service);
+        let mut out: Vec<ServiceId> = acts.chain(ctls).collect();
+        out.sort_unstable();
+        out
+    }
+
     /// Reads a GenoM3 component; `None` for a LANGUAGE.md one.
     pub fn new(c: &'a Component, max_instances: usize) -> Option<Machine<'a>> {
         let g = c.genom3.as_deref()?;

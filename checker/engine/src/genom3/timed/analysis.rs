@@ -70,6 +70,21 @@ pub struct TimingAnalysis {
     pub stopped: Option<Stop>,
     /// Tasks that can overrun, in task order.
     pub overruns: Vec<TaskOverrun>,
+    /// What each group's exploration covered, in exploration order.
+    pub records: Vec<GroupRecord>,
+}
+
+/// One group's exploration ([`super::groups`]).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct GroupRecord {
+    /// Its tasks.
+    pub tasks: Vec<usize>,
+    /// The services it requests, but the built-in ones.
+    pub services: Vec<genom_model::component::ServiceId>,
+    /// States stored.
+    pub states: u64,
+    /// Whether it finished.
+    pub complete: bool,
 }
 
 /// Explores the timed model of `m`, group by group ([`super::groups`]);
@@ -83,7 +98,13 @@ pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis>
     for group in groups(m, &locks) {
         let te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
         out.clocks = out.clocks.max(te.clock_count());
-        explore_group(&te, limits, &mut out);
+        let (states, complete) = explore_group(&te, limits, &mut out);
+        out.records.push(GroupRecord {
+            tasks: (0..group.tasks.len()).filter(|&t| group.tasks[t]).collect(),
+            services: m.requested(&group.acts, &group.ctls),
+            states,
+            complete,
+        });
         out.groups += 1;
         // A group at the state limit leaves the others worth exploring.
         if matches!(out.stopped, Some(Stop::Time | Stop::Memory)) {
@@ -95,8 +116,9 @@ pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis>
 }
 
 /// Explores one group and adds its findings: per task, the first
-/// violation of each [`Cause`].
-fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis) {
+/// violation of each [`Cause`]. Returns its states and whether it
+/// finished.
+fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis) -> (u64, bool) {
     let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
     let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
     let e = explore(te, limits, |id, st: &TG3State| {
@@ -136,6 +158,7 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
     out.states += e.store.len() as u64;
     out.transitions += e.transitions;
     out.stopped = out.stopped.or(e.stopped);
+    (e.store.len() as u64, e.stopped.is_none())
 }
 
 /// A codel of task `t` longer than its period, still running in `st`.
