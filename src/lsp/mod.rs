@@ -426,6 +426,21 @@ impl Server<'_> {
         Ok(())
     }
 
+    /// What `look` finds at the position a request names (go-to-definition
+    /// and hover both carry a document and a position, and nothing else
+    /// they need): `Err` when the params are not that.
+    fn at_position<T>(
+        &self,
+        params: serde_json::Value,
+        look: fn(&Document, lsp_types::Position) -> Option<T>,
+    ) -> Result<Option<T>, String> {
+        let at = typed::<lsp_types::TextDocumentPositionParams>(params)?;
+        Ok(self
+            .documents
+            .get(at.text_document.uri.as_str())
+            .and_then(|d| look(d, at.position)))
+    }
+
     /// Answers a request: params that are not what the protocol says get
     /// -32602, a second `initialize` -32600, other methods -32601.
     fn request(&self, request: Request) -> Fallible<()> {
@@ -446,26 +461,12 @@ impl Server<'_> {
                 }
                 Err(e) => invalid(id, e),
             },
-            GotoDefinition::METHOD => match typed::<lsp_types::GotoDefinitionParams>(params) {
-                Ok(p) => {
-                    let at = p.text_document_position_params;
-                    let found = self
-                        .documents
-                        .get(at.text_document.uri.as_str())
-                        .and_then(|d| navigate::definition(d, at.position));
-                    Response::new_ok(id, found)
-                }
+            GotoDefinition::METHOD => match self.at_position(params, navigate::definition) {
+                Ok(found) => Response::new_ok(id, found),
                 Err(e) => invalid(id, e),
             },
-            HoverRequest::METHOD => match typed::<lsp_types::HoverParams>(params) {
-                Ok(p) => {
-                    let at = p.text_document_position_params;
-                    let found = self
-                        .documents
-                        .get(at.text_document.uri.as_str())
-                        .and_then(|d| navigate::hover(d, at.position));
-                    Response::new_ok(id, found)
-                }
+            HoverRequest::METHOD => match self.at_position(params, navigate::hover) {
+                Ok(found) => Response::new_ok(id, found),
                 Err(e) => invalid(id, e),
             },
             Initialize::METHOD => Response::new_err(

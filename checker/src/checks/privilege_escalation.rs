@@ -271,11 +271,6 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
             }
         }
     }
-    let stronger = |weak: &Service, sid: &ServiceId| {
-        c.services
-            .get(*sid)
-            .is_some_and(|s| weak.credential < s.credential)
-    };
     let mut out = Vec::new();
     for (wid, weak) in c.services.iter() {
         let Some(weak_uses) = uses.get(&wid) else {
@@ -293,17 +288,22 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
             .iter()
             .filter_map(|d| Some((d.structure()?, d.steps.first())))
             .flat_map(|(s, first)| {
-                // A whole-structure write meets every reader of it; a
-                // member's, the readers of that member or of the whole.
-                let range = match first {
-                    None => readers.range((s, None)..=(s, Some(&LAST))),
-                    Some(step) => readers.range((s, Some(step))..=(s, Some(step))),
+                // A whole-structure write meets every reader of the
+                // structure; a member's, the readers of that member and
+                // of the whole.
+                let readers: Vec<&Vec<ServiceId>> = match first {
+                    None => readers
+                        .range((s, None)..=(s, Some(&LAST)))
+                        .map(|(_, ids)| ids)
+                        .collect(),
+                    Some(step) => [(s, Some(step)), (s, None)]
+                        .iter()
+                        .filter_map(|key| readers.get(key))
+                        .collect(),
                 };
-                range.chain(readers.range((s, None)..=(s, None)))
-            })
-            .flat_map(|(_, ids)| ids.iter().copied());
-        let candidates: BTreeSet<ServiceId> =
-            named.chain(reading).filter(|s| stronger(weak, s)).collect();
+                readers.into_iter().flatten().copied()
+            });
+        let candidates: BTreeSet<ServiceId> = named.chain(reading).collect();
         for sid in candidates {
             let (Some(strong), Some(strong_uses)) = (c.services.get(sid), uses.get(&sid)) else {
                 continue;

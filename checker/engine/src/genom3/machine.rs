@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use genom_model::component::genom3::{FsmCodel, Genom3Info, ParamSource};
-use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
+use genom_model::component::{CodelId, Component, Idx, ServiceId, ThreadId};
 use genom_model::span::Span;
 
 /// Where a yield leads.
@@ -274,6 +274,17 @@ pub enum Role {
 pub const POOL: usize = 32;
 
 impl<'a> Machine<'a> {
+    /// The services whose completion some step reads (`after`/`before`
+    /// name them), as bits by service index: the only completion flags an
+    /// engine keeps in its states (genom3-semantics 14.1).
+    pub fn completions_read(&self) -> Vec<u64> {
+        let mut bits = vec![0u64; self.c.services.len().div_ceil(64).max(1)];
+        for s in self.after.values().chain(self.before.values()).flatten() {
+            bits[s.index() / 64] |= 1 << (s.index() % 64);
+        }
+        bits
+    }
+
     /// The services an exploration requests (per activity `acts`, per
     /// control service `ctls`), in service order, but the built-in ones
     /// every exploration has.

@@ -77,10 +77,7 @@ impl<'a> Engine<'a> {
     pub fn part_tasks(m: Machine<'a>, acts: Vec<bool>, ctls: Vec<bool>, perms: Vec<bool>) -> Self {
         let done_words = m.c.services.len().div_ceil(64).max(1);
         let slots = m.slots();
-        let mut tracked = vec![0u64; done_words];
-        for s in m.after.values().chain(m.before.values()).flatten() {
-            tracked[s.index() / 64] |= 1 << (s.index() % 64);
-        }
+        let tracked = m.completions_read();
         Engine {
             m,
             done_words,

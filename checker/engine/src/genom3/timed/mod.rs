@@ -283,10 +283,7 @@ impl<'a> TimedEngine<'a> {
                     .collect()
             })
             .collect();
-        let mut tracked = vec![0u64; m.c.services.len().div_ceil(64).max(1)];
-        for s in m.after.values().chain(m.before.values()).flatten() {
-            tracked[s.index() / 64] |= 1 << (s.index() % 64);
-        }
+        let tracked = m.completions_read();
         let jobs = m
             .control_codels
             .iter()
