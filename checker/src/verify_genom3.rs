@@ -70,6 +70,7 @@ pub fn verify_genom3(
         ));
     }
     let (mut states, mut transitions) = (analysis.states, analysis.transitions);
+    let mut footprint = analysis.footprint;
     let names = |tasks: &[usize], services: &[ServiceId]| -> Vec<String> {
         let tasks = tasks.iter().map(|&t| format!("task {}", m.tasks[t].name));
         let services = services.iter().map(|&s| m.service_name(s).to_owned());
@@ -103,6 +104,7 @@ pub fn verify_genom3(
                 }
                 states += timing.states;
                 transitions += timing.transitions;
+                footprint.join(timing.footprint);
             }
             None => out.push(incomplete::timing_not_modelled(
                 c,
@@ -137,7 +139,7 @@ pub fn verify_genom3(
         transitions,
         time_ms: started.elapsed().as_secs_f64() * 1000.0,
         complete: out.iter().all(|d| d.code != genom_model::Code::Incomplete),
-        bytes_per_state: Some(analysis.bytes_per_state),
+        bytes_per_state: Some(footprint.bytes_per_state),
         decided_by,
         // Timing depends on how many requests run at once (F4); the
         // untimed verdicts do not (section 14.3 of docs/genom3-semantics.md).

@@ -55,7 +55,7 @@ const VARIANTS: [(Variant, &str); 3] = [
 ];
 
 /// A zone that only subsumes an equal zone.
-#[derive(Clone)]
+#[derive(Clone, PartialEq, Eq, Hash)]
 struct ExactZone(Dbm);
 
 impl Subsumes for ExactZone {

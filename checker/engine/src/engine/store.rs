@@ -8,21 +8,28 @@
 //!
 //! A state may also carry a *zone* (the timed engine's clock zone): states
 //! with the same words are chained, and a new state whose zone is included
-//! in a stored one is not new (inclusion checking in the passed list). For
+//! in a stored one is not new (inclusion checking in the passed list).
+//! Zones are kept once each ([`pool`]) and states hold their index. For
 //! untimed models the zone is `()` and every same-words state subsumes.
 
+pub mod bits;
 mod column;
+mod pool;
 mod table;
 
+use std::hash::Hash;
+
 use column::Column;
+use pool::{Pool, ZoneId};
 use table::{Probe, Table, hash};
 
 /// Index of a stored state.
 pub type StateId = u32;
 
 /// The symbolic part of a state: `a.subsumed_by(b)` when every concrete
-/// state of `a` is one of `b` (zone inclusion).
-pub trait Subsumes {
+/// state of `a` is one of `b` (zone inclusion). Equal values are stored
+/// once (hence `Hash + Eq`).
+pub trait Subsumes: Hash + Eq {
     /// Whether `self` is included in `other`.
     fn subsumed_by(&self, other: &Self) -> bool;
 
@@ -58,9 +65,10 @@ const NONE: StateId = StateId::MAX;
 pub struct Store<A, Z = ()> {
     width: usize,
     words: Column<u64>,
-    zones: Column<Z>,
-    /// Heap bytes owned by the stored zones.
-    zone_heap: usize,
+    /// Per state, its zone's index in `pool` (chained stores only).
+    zones: Column<ZoneId>,
+    /// The distinct zones.
+    pool: Pool<Z>,
     /// The previous state with the same words (chained stores only).
     same: Column<StateId>,
     /// States whose zone a later state includes: no need to expand them
@@ -89,7 +97,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             width,
             words: Column::new(width),
             zones: Column::new(1),
-            zone_heap: 0,
+            pool: Pool::new(),
             same: Column::new(1),
             covered: Column::new(1),
             table: Table::new(),
@@ -105,7 +113,11 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
 
     /// The zone of state `id`.
     pub fn zone(&self, id: StateId) -> &Z {
-        &self.zones.get(id as usize)[0]
+        if Z::TRIVIAL {
+            // Untimed: no zone is stored; the pool holds the one value.
+            return self.pool.get(0);
+        }
+        self.pool.get(self.zones.get(id as usize)[0])
     }
 
     /// Looks `key` (of hash `hash`) up in the table.
@@ -156,8 +168,11 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             return match probe {
                 Probe::Found(_, found) => (found, false),
                 Probe::Vacant(slot) => {
+                    if self.is_empty() {
+                        self.pool.intern(zone);
+                    }
                     self.table.set(slot, hash, id);
-                    self.push(key, zone, parent);
+                    self.push(key, parent);
                     (id, true)
                 }
             };
@@ -166,9 +181,12 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             Probe::Found(slot, head) => (slot, head),
             Probe::Vacant(slot) => (slot, NONE),
         };
+        let zid = self.pool.intern(zone);
+        let zone = self.pool.get(zid);
         let mut cur = head;
         while cur != NONE {
-            if zone.subsumed_by(self.zone(cur)) {
+            let other = self.zones.get(cur as usize)[0];
+            if other == zid || zone.subsumed_by(self.pool.get(other)) {
                 return (cur, false);
             }
             cur = self.same.get(cur as usize)[0];
@@ -176,25 +194,24 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         // The new zone may include stored ones: those need no expansion.
         let mut cur = head;
         while cur != NONE {
-            let covered = self.zone(cur).subsumed_by(&zone);
+            let covered = self.zone(cur).subsumed_by(zone);
             if let Some(flag) = self.covered.first_mut(cur as usize).filter(|_| covered) {
                 *flag = true;
             }
             cur = self.same.get(cur as usize)[0];
         }
         self.table.set(slot, hash, id);
-        self.zone_heap += zone.heap_bytes();
         self.covered.push(false);
         self.same.push(head);
-        self.push(key, zone, parent);
+        self.zones.push(zid);
+        self.push(key, parent);
         (id, true)
     }
 
-    /// Appends a new state's words, zone, parent and action.
-    fn push(&mut self, key: &[u64], zone: Z, parent: Option<(StateId, A)>) {
+    /// Appends a new state's words, parent and action.
+    fn push(&mut self, key: &[u64], parent: Option<(StateId, A)>) {
         let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);
         self.words.push_slice(key);
-        self.zones.push(zone);
         self.parents.push(parent.map_or(id, |(p, _)| p));
         self.via.push(parent.map(|(_, a)| a));
     }
@@ -266,8 +283,35 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             + (self.parents.capacity() + self.same.capacity()) * size_of::<StateId>()
             + self.covered.capacity()
             + self.via.capacity() * size_of::<Option<A>>()
-            + self.zones.capacity().saturating_mul(size_of::<Z>())
-            + self.zone_heap
+            + self.zones.capacity() * size_of::<ZoneId>()
+            + self.pool.bytes()
+    }
+}
+
+/// The bytes per state of the largest of several explorations (the one
+/// with most states): the figure a user reads about memory (a small
+/// store's first chunks would make it look large).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Footprint {
+    states: usize,
+    /// Bytes per state of that exploration.
+    pub bytes_per_state: f64,
+}
+
+impl Footprint {
+    /// Counts one more exploration's store.
+    pub fn add<A: Copy, Z: Subsumes>(&mut self, store: &Store<A, Z>) {
+        self.join(Footprint {
+            states: store.len(),
+            bytes_per_state: store.bytes_per_state(),
+        });
+    }
+
+    /// The larger of the two.
+    pub fn join(&mut self, other: Footprint) {
+        if other.states > self.states {
+            *self = other;
+        }
     }
 }
 
@@ -298,6 +342,7 @@ mod tests {
 
     /// A zone-less state kept the way zones are (same-words chains and
     /// covered flags).
+    #[derive(PartialEq, Eq, Hash)]
     struct Chained;
 
     impl Subsumes for Chained {

@@ -16,7 +16,7 @@ use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use super::trace::describe;
 use crate::engine::explore::{Limits, Model, Stop, explore};
-use crate::engine::store::StateId;
+use crate::engine::store::{Footprint, StateId};
 
 /// A cycle of unpaused transitions of one state machine, through no
 /// `async` codel.
@@ -50,8 +50,8 @@ pub struct G3Analysis {
     pub states: u64,
     /// Transitions fired.
     pub transitions: u64,
-    /// Bytes per stored state.
-    pub bytes_per_state: f64,
+    /// Bytes per stored state, of the largest part.
+    pub footprint: Footprint,
     /// Why exploration stopped early, if it did.
     pub stopped: Option<Stop>,
     /// Services some execution accepts (an activity: starts).
@@ -99,7 +99,7 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
     let mut out = G3Analysis::default();
     let mut done = vec![0u64; c.services.len().div_ceil(64).max(1)];
     let mut boot: Vec<G3Action> = Vec::new();
-    let mut bytes = 0.0f64;
+    let mut footprint = Footprint::default();
     for part in parts(&whole.m) {
         let perms = part.perms;
         let engine = Engine::part(
@@ -164,13 +164,13 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
         });
         out.states += exploration.store.len() as u64;
         out.transitions += exploration.transitions;
-        bytes = bytes.max(exploration.store.bytes_per_state());
+        footprint.add(&exploration.store);
         out.stopped = out.stopped.or(exploration.stopped);
         if out.stopped.is_some() {
             break;
         }
     }
-    out.bytes_per_state = bytes;
+    out.footprint = footprint;
     out.boot = boot;
     out.completed = c
         .services

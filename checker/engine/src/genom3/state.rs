@@ -2,6 +2,9 @@
 //! activity are anonymous and kept sorted (a multiset), so that states
 //! differing only by which slot holds which instance are one state.
 
+use super::machine::Machine;
+use crate::engine::store::bits::{BitReader, BitWriter, bits_for, words_for};
+
 /// The life cycle of the component.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Phase {
@@ -172,62 +175,149 @@ impl G3State {
             .map(|(_, v)| v.len())
             .sum::<usize>()
     }
+}
 
-    /// Packs into words: phase and boot, `done`, then 16-bit slots (the
-    /// permanent activities, then `max` slots per activity).
-    pub fn encode(&self, max: usize, out: &mut Vec<u64>) {
-        out.push(self.phase.code() | u64::from(self.booted) << 16);
-        out.extend(&self.done);
-        let mut halves = self.perm.iter().map(|p| p.map_or(0, Inst::pack)).chain(
-            self.inst
-                .iter()
-                .flat_map(|v| (0..max).map(move |i| v.get(i).map_or(0, |x| x.pack()))),
-        );
-        loop {
-            let mut word = 0u64;
-            let mut any = false;
-            for k in 0..4 {
-                if let Some(h) = halves.next() {
-                    word |= u64::from(h) << (16 * k);
-                    any = true;
-                }
-            }
-            if !any {
-                break;
-            }
-            out.push(word);
+/// How a [`G3State`] is packed into words ([`bits`]): the phase, the boot
+/// counter, the kept completion flags (those some step reads), then per
+/// permanent activity and per activity slot its instance: status, state
+/// (as many bits as its state machine needs) and marks.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    tasks: usize,
+    slots: usize,
+    /// Bits of a state index: per task's permanent activity, then per
+    /// activity.
+    state_bits: Vec<u32>,
+    done_words: usize,
+    /// The completion flags kept, as bits (the others are always clear).
+    tracked: Vec<u64>,
+}
+
+/// Bits of an instance's status (0: empty slot) and of its marks.
+const STATUS_BITS: u32 = 3;
+const MARK_BITS: u32 = 5;
+
+impl Layout {
+    /// The layout of states of `m` with `slots` slots per activity and
+    /// `done_words` words of completion flags, of which only `tracked`
+    /// are kept.
+    pub fn new(m: &Machine<'_>, slots: usize, done_words: usize, tracked: Vec<u64>) -> Self {
+        let states = |n: usize| bits_for(n as u64);
+        let state_bits = m
+            .tasks
+            .iter()
+            .map(|t| states(t.perm.as_ref().map_or(0, |f| f.states.len())))
+            .chain(m.activities.iter().map(|a| states(a.fsm.states.len())))
+            .collect();
+        Layout {
+            tasks: m.tasks.len(),
+            slots,
+            state_bits,
+            done_words,
+            tracked,
         }
     }
 
-    /// The words of [`G3State::encode`] for `tasks` tasks, `acts`
-    /// activities and `done_words` words of flags.
-    pub fn decode(w: &[u64], tasks: usize, acts: usize, max: usize, done_words: usize) -> G3State {
-        let head = w.first().copied().unwrap_or(0);
-        let done = w.get(1..1 + done_words).unwrap_or(&[]).to_vec();
-        let half = |i: usize| -> u16 {
-            let word = w.get(1 + done_words + i / 4).copied().unwrap_or(0);
-            (word >> (16 * (i % 4)) & 0xffff) as u16
-        };
-        let perm = (0..tasks).map(|t| Inst::unpack(half(t))).collect();
-        let inst = (0..acts)
-            .map(|a| {
-                (0..max)
-                    .filter_map(|i| Inst::unpack(half(tasks + a * max + i)))
-                    .collect()
+    fn phase_bits(&self) -> u32 {
+        bits_for(5 + self.tasks as u64 + 1)
+    }
+
+    fn booted_bits(&self) -> u32 {
+        bits_for(self.tasks as u64 + 1)
+    }
+
+    /// The kept completion flags, by service index.
+    fn kept(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.tracked.len() * 64).filter(|&s| self.tracked[s / 64] >> (s % 64) & 1 == 1)
+    }
+
+    /// Per slot, its state bits: the permanent activities, then `slots`
+    /// per activity.
+    fn slot_bits(&self) -> impl Iterator<Item = u32> + '_ {
+        let (perms, acts) = self.state_bits.split_at(self.tasks);
+        perms.iter().copied().chain(
+            acts.iter()
+                .flat_map(|&b| std::iter::repeat_n(b, self.slots)),
+        )
+    }
+
+    /// Words of a packed state.
+    pub fn width(&self) -> usize {
+        let slots: usize = self
+            .slot_bits()
+            .map(|b| (STATUS_BITS + b + MARK_BITS) as usize)
+            .sum();
+        let head = (self.phase_bits() + self.booted_bits()) as usize;
+        words_for(head + self.kept().count() + slots)
+    }
+
+    /// Packs `s`.
+    pub fn encode(&self, s: &G3State, out: &mut Vec<u64>) {
+        let mut w = BitWriter::new(out);
+        w.put(s.phase.code(), self.phase_bits());
+        w.put(u64::from(s.booted), self.booted_bits());
+        for k in self.kept() {
+            w.flag(s.is_done(k));
+        }
+        let insts = s.perm.iter().copied().chain(
+            s.inst
+                .iter()
+                .flat_map(|v| (0..self.slots).map(move |i| v.get(i).copied())),
+        );
+        for (i, b) in insts.zip(self.slot_bits()) {
+            let status = i.map_or(0, |i| match i.status {
+                Status::Delayed => 1,
+                Status::Ready => 2,
+                Status::Run => 3,
+                Status::Stop => 4,
+            });
+            w.put(status, STATUS_BITS);
+            w.put(i.map_or(0, |i| u64::from(i.state)), b);
+            w.put(i.map_or(0, |i| u64::from(i.mark & 0x1f)), MARK_BITS);
+        }
+        w.finish();
+    }
+
+    /// Unpacks a state [`Layout::encode`] packed.
+    pub fn decode(&self, words: &[u64]) -> G3State {
+        let mut r = BitReader::new(words);
+        let phase = Phase::from_code(r.take(self.phase_bits()));
+        let booted = u8::try_from(r.take(self.booted_bits())).unwrap_or(u8::MAX);
+        let mut done = vec![0; self.done_words];
+        for k in self.kept() {
+            if r.flag() {
+                done[k / 64] |= 1 << (k % 64);
+            }
+        }
+        let mut insts = self.slot_bits().map(|b| {
+            let status = r.take(STATUS_BITS);
+            let state = (r.take(b) & 0xff) as u8;
+            let mark = r.take(MARK_BITS) as u8;
+            let status = match status {
+                1 => Status::Delayed,
+                2 => Status::Ready,
+                3 => Status::Run,
+                4 => Status::Stop,
+                _ => return None,
+            };
+            Some(Inst {
+                status,
+                state,
+                mark,
             })
+        });
+        let perm = insts.by_ref().take(self.tasks).collect();
+        let acts = self.state_bits.len() - self.tasks;
+        let inst = (0..acts)
+            .map(|_| insts.by_ref().take(self.slots).flatten().collect())
             .collect();
         G3State {
-            phase: Phase::from_code(head & 0xffff),
-            booted: ((head >> 16) & 0xff) as u8,
+            phase,
+            booted,
             done,
             perm,
             inst,
         }
-    }
-
-    /// Words of the packed form.
-    pub fn width(tasks: usize, acts: usize, max: usize, done_words: usize) -> usize {
-        1 + done_words + (tasks + acts * max).div_ceil(4)
     }
 }
 
@@ -238,7 +328,7 @@ mod tests {
     #[test]
     fn packing_round_trips() {
         let s = G3State {
-            phase: Phase::PermStop(3),
+            phase: Phase::PermStop(1),
             booted: 2,
             done: vec![0b101],
             perm: vec![
@@ -255,9 +345,29 @@ mod tests {
                 vec![Inst::new(Status::Ready, 1)],
             ],
         };
+        let layout = Layout {
+            tasks: 2,
+            slots: 2,
+            state_bits: vec![1, 3, 8, 1, 1],
+            done_words: 1,
+            tracked: vec![0b111],
+        };
         let mut w = Vec::new();
-        s.encode(2, &mut w);
-        assert_eq!(w.len(), G3State::width(2, 3, 2, 1));
-        assert_eq!(G3State::decode(&w, 2, 3, 2, 1), s);
+        layout.encode(&s, &mut w);
+        assert_eq!(w.len(), layout.width());
+        assert_eq!(
+            layout.width(),
+            2,
+            "4 + 2 + 3 flags + 8 slots of 9 to 16 bits"
+        );
+        assert_eq!(layout.decode(&w), s);
+        // A completion flag no step reads is not kept.
+        let narrow = Layout {
+            tracked: vec![0b001],
+            ..layout
+        };
+        let mut w = Vec::new();
+        narrow.encode(&s, &mut w);
+        assert_eq!(narrow.decode(&w).done, vec![0b001]);
     }
 }

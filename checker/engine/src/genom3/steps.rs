@@ -9,7 +9,7 @@
 use genom_model::component::Idx;
 
 use super::machine::{ControlKind, Machine, Owner, Target};
-use super::state::{G3State, Inst, Phase, Status, mark};
+use super::state::{G3State, Inst, Layout, Phase, Status, mark};
 use crate::engine::explore::Model;
 
 /// A transition.
@@ -39,8 +39,8 @@ pub struct Engine<'a> {
     /// The component.
     pub m: Machine<'a>,
     done_words: usize,
-    /// Slots per activity in the packed state ([`Machine::slots`]).
-    slots: usize,
+    /// How a state is packed.
+    layout: Layout,
     /// Per activity: requested in this exploration.
     acts: Vec<bool>,
     /// Per control service: requested in this exploration.
@@ -78,10 +78,11 @@ impl<'a> Engine<'a> {
         let done_words = m.c.services.len().div_ceil(64).max(1);
         let slots = m.slots();
         let tracked = m.completions_read();
+        let layout = Layout::new(&m, slots, done_words, tracked.clone());
         Engine {
             m,
             done_words,
-            slots,
+            layout,
             acts,
             ctls,
             perms,
@@ -405,12 +406,7 @@ impl Model for Engine<'_> {
     type Zone = ();
 
     fn width(&self) -> usize {
-        G3State::width(
-            self.m.tasks.len(),
-            self.m.activities.len(),
-            self.slots,
-            self.done_words,
-        )
+        self.layout.width()
     }
 
     fn init_states(&self) -> Vec<G3State> {
@@ -444,17 +440,11 @@ impl Model for Engine<'_> {
     }
 
     fn encode(&self, s: &G3State, out: &mut Vec<u64>) {
-        s.encode(self.slots, out);
+        self.layout.encode(s, out);
     }
 
     fn decode(&self, w: &[u64], (): &()) -> G3State {
-        G3State::decode(
-            w,
-            self.m.tasks.len(),
-            self.m.activities.len(),
-            self.slots,
-            self.done_words,
-        )
+        self.layout.decode(w)
     }
 
     fn zone(&self, _: &G3State) {}

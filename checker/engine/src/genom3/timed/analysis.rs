@@ -15,7 +15,7 @@ use super::locks::Locks;
 use super::trace::timed_trace;
 use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
 use crate::engine::explore::{Limits, Stop, explore};
-use crate::engine::store::StateId;
+use crate::engine::store::{Footprint, StateId};
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
 use crate::genom3::trace::describe;
@@ -66,6 +66,8 @@ pub struct TimingAnalysis {
     pub clocks: usize,
     /// Groups explored.
     pub groups: usize,
+    /// Bytes per stored state, of the largest group.
+    pub footprint: Footprint,
     /// Why the exploration stopped early, if it did.
     pub stopped: Option<Stop>,
     /// Tasks that can overrun, in task order.
@@ -157,6 +159,7 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
         }));
     out.states += e.store.len() as u64;
     out.transitions += e.transitions;
+    out.footprint.add(&e.store);
     out.stopped = out.stopped.or(e.stopped);
     (e.store.len() as u64, e.stopped.is_none())
 }

@@ -49,6 +49,7 @@ use super::machine::{Machine, Owner};
 use super::state::{G3State, Inst, Status, mark};
 use super::steps::{Engine, G3Action};
 use crate::engine::explore::Model;
+use crate::engine::store::bits::{BitReader, BitWriter, bits_for, words_for};
 use crate::timed::clocks::gcd;
 use crate::zones::dbm::Dbm;
 
@@ -146,12 +147,12 @@ impl Ctl {
             G3Action::Call(k) => (2, k),
             _ => (3, 0),
         };
-        kind << 40 | u64::from(x) << 16 | u64::from(self.phase) << 1 | u64::from(self.running)
+        kind << 25 | u64::from(x) << 9 | u64::from(self.phase) << 1 | u64::from(self.running)
     }
 
     fn unpack(v: u64) -> Option<Ctl> {
-        let x = ((v >> 16) & 0xffff) as u16;
-        let job = match v >> 40 {
+        let x = ((v >> 9) & 0xffff) as u16;
+        let job = match v >> 25 {
             1 => G3Action::Accept(x),
             2 => G3Action::Call(x),
             _ => return None,
@@ -229,8 +230,8 @@ pub const MAX_TASKS: usize = 32;
 /// The control thread in [`TG3State::queue`].
 pub const CTL: u8 = 62;
 
-/// Queue entries per encoded word (6 bits each, 0 for none).
-const QUEUE_PER_WORD: usize = 10;
+/// Bits of a packed [`Ctl`] (`None`: 0).
+const CTL_BITS: u32 = 27;
 
 impl<'a> TimedEngine<'a> {
     /// The timed model of the whole of `m`; `None` with more than
@@ -329,8 +330,19 @@ impl<'a> TimedEngine<'a> {
     }
 
     /// Words of the encoded resource queue (one entry per thread).
-    fn queue_words(&self) -> usize {
-        (self.e.m.tasks.len() + 1).div_ceil(QUEUE_PER_WORD)
+    /// Bit widths of the packed state after the untimed words: a per-task
+    /// flag set (`cont`, `ticked`, `late`), the violation, and a queue
+    /// entry (a task, the control thread, or none).
+    fn field_bits(&self) -> (u32, u32, u32) {
+        let n = self.e.m.tasks.len() as u64;
+        (n as u32, bits_for(n + 1), bits_for(n + 2))
+    }
+
+    /// Bits of the packed state after the untimed words.
+    fn extra_bits(&self) -> usize {
+        let (n, v, q) = self.field_bits();
+        let tasks = self.e.m.tasks.len();
+        3 * n as usize + v as usize + CTL_BITS as usize + (tasks + 1) * q as usize
     }
 
     /// Number of clocks.
@@ -667,7 +679,7 @@ impl Model for TimedEngine<'_> {
     }
 
     fn width(&self) -> usize {
-        self.e.width() + 4 + self.queue_words()
+        self.e.width() + words_for(self.extra_bits())
     }
 
     fn init_states(&self) -> Vec<TG3State> {
@@ -690,37 +702,46 @@ impl Model for TimedEngine<'_> {
 
     fn encode(&self, st: &TG3State, out: &mut Vec<u64>) {
         self.e.encode(&st.g, out);
-        let v = st.violation.map_or(0, |t| u64::from(t) + 1);
-        out.push((st.cont & 0xffff_ffff) | (st.ticked & 0xffff_ffff) << 32);
-        out.push(v);
-        out.push(st.ctl.map_or(0, Ctl::pack));
-        out.push(st.late);
-        let mut words = vec![0u64; self.queue_words()];
-        for (x, &th) in st.queue.iter().enumerate() {
-            words[x / QUEUE_PER_WORD] |= u64::from(th + 1) << (6 * (x % QUEUE_PER_WORD));
+        let (n, v, q) = self.field_bits();
+        let mut w = BitWriter::new(out);
+        w.put(st.cont, n);
+        w.put(st.ticked, n);
+        w.put(st.late, n);
+        w.put(st.violation.map_or(0, |t| u64::from(t) + 1), v);
+        w.put(st.ctl.map_or(0, Ctl::pack), CTL_BITS);
+        let tasks = self.e.m.tasks.len() as u64;
+        for &th in &st.queue {
+            // The control thread after the tasks; 0 ends the queue.
+            let th = if th == CTL { tasks } else { u64::from(th) };
+            w.put(th + 1, q);
         }
-        out.extend(words);
+        for _ in st.queue.len()..self.e.m.tasks.len() + 1 {
+            w.put(0, q);
+        }
+        w.finish();
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
         let k = self.e.width();
         let g = self.e.decode(&w[..k], &());
-        let bits = w.get(k).copied().unwrap_or(0);
-        let v = w.get(k + 1).copied().unwrap_or(0);
-        let ctl = w.get(k + 2).copied().and_then(Ctl::unpack);
-        let late = w.get(k + 3).copied().unwrap_or(0);
-        let queue = w
-            .iter()
-            .skip(k + 4)
-            .flat_map(|&word| (0..QUEUE_PER_WORD).map(move |x| (word >> (6 * x)) & 63))
-            .take_while(|&v| v != 0)
-            .map(|v| (v - 1) as u8)
+        let (n, v, q) = self.field_bits();
+        let mut r = BitReader::new(&w[k..]);
+        let cont = r.take(n);
+        let ticked = r.take(n);
+        let late = r.take(n);
+        let violation = r.take(v).checked_sub(1).and_then(|t| u8::try_from(t).ok());
+        let ctl = Ctl::unpack(r.take(CTL_BITS));
+        let tasks = self.e.m.tasks.len() as u64;
+        let queue = (0..=tasks)
+            .map(|_| r.take(q))
+            .take_while(|&x| x != 0)
+            .map(|x| if x - 1 == tasks { CTL } else { (x - 1) as u8 })
             .collect();
         TG3State {
             g,
-            cont: bits & 0xffff_ffff,
-            ticked: bits >> 32,
-            violation: v.checked_sub(1).and_then(|t| u8::try_from(t).ok()),
+            cont,
+            ticked,
+            violation,
             ctl,
             queue,
             late,
