@@ -1,9 +1,18 @@
-//! Rendering of diagnostics, the one place where a [`Diagnostic`] becomes
-//! text: graphical reports with miette ([`human`]), the versioned JSON
-//! document ([`json`]), GitHub Actions annotations ([`github`]) and SARIF
-//! 2.1.0 ([`sarif`]). Rendering returns strings; only the binary prints.
+//! `genom-render`: where a [`Diagnostic`] becomes text. It owns every
+//! report format of `--format`: graphical reports with miette ([`human`]),
+//! the versioned JSON document ([`json`]), GitHub Actions annotations
+//! ([`github`]) and SARIF 2.1.0 ([`sarif`]), and the escaping of names and
+//! messages from outside ([`escaped`]). Rendering returns strings; only the
+//! binary prints.
 //!
-//! [`Diagnostic`]: crate::Diagnostic
+//! It depends on `genom-model` alone (the diagnostics, spans, traces and
+//! statistics it renders) and must not depend on the front-ends, the
+//! checker, the engines or the exports: they do not render, so a change
+//! here rebuilds only the binary (and the tests that read reports).
+//! Durations are written by [`genom_model::duration::format_ns`], which
+//! the engines' messages share; [`human::format_ns`] re-exports it.
+//!
+//! [`Diagnostic`]: genom_model::Diagnostic
 
 pub mod github;
 pub mod human;
@@ -12,11 +21,11 @@ pub mod sarif;
 
 use std::borrow::Cow;
 
-use crate::diagnostic::{Counts, Diagnostic};
-use crate::dialect::{Dialect, Pragma};
-use crate::response::ResponseTime;
-use crate::span::SourceMap;
-use crate::stats::Statistics;
+use genom_model::diagnostic::{Counts, Diagnostic};
+use genom_model::dialect::{Dialect, Pragma};
+use genom_model::response::ResponseTime;
+use genom_model::span::SourceMap;
+use genom_model::stats::Statistics;
 
 /// Everything known about one checked file, ready to render.
 #[derive(Debug, Clone, Copy)]
@@ -49,7 +58,7 @@ impl FileReport<'_> {
 /// characters (C0, DEL, C1) and the bidirectional-text controls, which
 /// would move the cursor, change colours, start a line or reorder what
 /// follows, are shown as Rust escapes (`\n`, `\u{1b}`, `\u{202e}`), as
-/// [`quote`](crate::diagnostic::quote) shows them in messages. For names
+/// [`quote`](genom_model::diagnostic::quote) shows them in messages. For names
 /// (files) that come from outside.
 pub fn escaped(text: &str) -> Cow<'_, str> {
     escape(text, false)

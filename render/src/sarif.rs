@@ -15,11 +15,12 @@ use std::collections::BTreeMap;
 use percent_encoding::{AsciiSet, CONTROLS, utf8_percent_encode};
 use serde_json::{Value, json};
 
-use super::FileReport;
-use super::json::region;
-use crate::diagnostic::{Code, Diagnostic, Severity};
-use crate::span::{SourceMap, Span};
-use crate::trace::Trace;
+use genom_model::diagnostic::{Code, Diagnostic, Severity};
+use genom_model::span::{SourceMap, Span};
+use genom_model::trace::Trace;
+
+use crate::FileReport;
+use crate::json::region;
 
 /// The SARIF version written.
 pub const SARIF_VERSION: &str = "2.1.0";
@@ -221,7 +222,7 @@ mod tests {
             sources: &s,
             diagnostics: &diagnostics,
             statistics: None,
-            dialect: crate::Dialect::Gen,
+            dialect: genom_model::Dialect::Gen,
             pragmas: &[],
             response_times: &[],
         };

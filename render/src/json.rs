@@ -4,12 +4,13 @@
 
 use serde::Serialize;
 
-use super::FileReport;
-use crate::diagnostic::{Counts, Diagnostic};
-use crate::response::JsonResponseTime;
-use crate::span::{SourceMap, Span};
-use crate::stats::{Assumption, Statistics};
-use crate::trace::{Trace, TraceStep};
+use genom_model::diagnostic::{Counts, Diagnostic};
+use genom_model::response::JsonResponseTime;
+use genom_model::span::{SourceMap, Span};
+use genom_model::stats::{Assumption, Statistics};
+use genom_model::trace::{Trace, TraceStep};
+
+use crate::FileReport;
 
 /// Version of the JSON document format.
 pub const FORMAT_VERSION: u32 = 1;
@@ -331,7 +332,7 @@ pub fn location(sources: &SourceMap, span: Span) -> JsonLocation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnostic::Code;
+    use genom_model::diagnostic::Code;
 
     #[test]
     fn document_has_the_documented_shape() {
@@ -344,7 +345,7 @@ mod tests {
             sources: &map,
             diagnostics: &diags,
             statistics: None,
-            dialect: crate::dialect::Dialect::Gen,
+            dialect: genom_model::dialect::Dialect::Gen,
             pragmas: &[],
             response_times: &[],
         };

@@ -11,11 +11,12 @@ use miette::{
     SourceCode, SourceSpan, SpanContents,
 };
 
-use super::{FileReport, escaped, escaped_keeping_lines};
-use crate::diagnostic::{Counts, Diagnostic, Severity};
-pub use crate::duration::format_ns;
-use crate::span::{FileId, SourceMap, Span};
-use crate::trace::{Event, Trace};
+use genom_model::diagnostic::{Counts, Diagnostic, Severity};
+pub use genom_model::duration::format_ns;
+use genom_model::span::{FileId, SourceMap, Span};
+use genom_model::trace::{Event, Trace};
+
+use crate::{FileReport, escaped, escaped_keeping_lines};
 
 /// How to draw reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -276,7 +277,7 @@ impl<'a> Report<'a> {
         d: &'a Diagnostic,
         file: FileId,
         message: &str,
-        loc: crate::span::Located,
+        loc: genom_model::span::Located,
     ) -> Self {
         let text = if message.is_empty() {
             "related location"
@@ -567,7 +568,7 @@ impl SourceCode for FileSource<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnostic::Code;
+    use genom_model::diagnostic::Code;
 
     #[test]
     fn summary_pluralises() {

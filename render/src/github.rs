@@ -14,10 +14,11 @@
 
 use std::fmt::Write as _;
 
-use super::json::{location, region};
-use super::{FileReport, escaped, escaped_keeping_lines};
-use crate::diagnostic::{Counts, Diagnostic, Severity};
-use crate::span::SourceMap;
+use genom_model::diagnostic::{Counts, Diagnostic, Severity};
+use genom_model::span::SourceMap;
+
+use crate::json::{location, region};
+use crate::{FileReport, escaped, escaped_keeping_lines};
 
 /// Renders the annotations of every report and, given `summaries` (one per
 /// report), each file's summary line and the grand total.
@@ -36,7 +37,7 @@ pub fn render(reports: &[FileReport<'_>], summaries: Option<&[String]>) -> Strin
         total.merge(report.counts());
     }
     if summaries.is_some() {
-        out.push_str(&super::human::render_total(total, reports.len()));
+        out.push_str(&crate::human::render_total(total, reports.len()));
         out.push('\n');
     }
     out
@@ -114,8 +115,8 @@ fn property(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Code;
-    use crate::span::Span;
+    use genom_model::Code;
+    use genom_model::span::Span;
 
     fn sources() -> SourceMap {
         let mut s = SourceMap::new();
@@ -154,7 +155,7 @@ mod tests {
             sources: &s,
             diagnostics: &diagnostics,
             statistics: None,
-            dialect: crate::Dialect::Gen,
+            dialect: genom_model::Dialect::Gen,
             pragmas: &[],
             response_times: &[],
         };
