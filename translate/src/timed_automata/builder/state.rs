@@ -3,11 +3,11 @@
 
 use std::collections::BTreeSet;
 
-use crate::behaviour::{PosId, Position};
-use crate::component::{CodelId, ServiceId, StructureId, uses_conflict as conflict};
+use genom_model::behaviour::{PosId, Position};
+use genom_model::component::{CodelId, ServiceId, StructureId, uses_conflict as conflict};
+use genom_model::timed_automata::Expr;
 
 use super::Builder;
-use crate::timed_automata::Expr;
 
 impl<'a> Builder<'a> {
     pub(super) fn position_text(&self, p: Position) -> String {

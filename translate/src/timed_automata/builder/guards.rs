@@ -2,11 +2,11 @@
 //! a codel or start a round, when a watchdog arms, and the network's
 //! urgency predicate.
 
-use crate::behaviour::{PosId, Position};
-use crate::component::{ServiceId, uses_conflict as conflict};
+use genom_model::behaviour::{PosId, Position};
+use genom_model::component::{ServiceId, uses_conflict as conflict};
+use genom_model::timed_automata::Expr;
 
 use super::Builder;
-use crate::timed_automata::Expr;
 
 impl<'a> Builder<'a> {
     /// Steps 1–3 and the lock test of the untimed `request_enabled`.

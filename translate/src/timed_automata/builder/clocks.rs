@@ -5,13 +5,13 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
-use crate::behaviour::{IDLE, PosId};
-use crate::component::{ServiceId, StructureId, ThreadId};
-use crate::kinds::ServiceKind;
+use genom_model::behaviour::{IDLE, PosId};
+use genom_model::component::{ServiceId, StructureId, ThreadId};
+use genom_model::kinds::ServiceKind;
+use genom_model::timed_automata::{ClockRole, ServiceVars};
 
 use super::units::{cluster_of, unit_ns, units};
 use super::{Builder, Svc, Thr, position_class};
-use crate::timed_automata::{ClockRole, ServiceVars};
 
 impl<'a> Builder<'a> {
     /// Declares the clocks and variables.
@@ -169,14 +169,15 @@ impl<'a> Builder<'a> {
                     ),
                 )
             });
-            let others =
-                |rule: fn(&crate::component::Service) -> &Vec<crate::component::Ref<ServiceId>>| {
-                    c.services
-                        .iter()
-                        .filter(|&(t, ts)| t != s && rule(ts).iter().any(|r| r.id == s))
-                        .map(|(t, _)| t)
-                        .collect::<Vec<ServiceId>>()
-                };
+            let others = |rule: fn(
+                &genom_model::component::Service,
+            ) -> &Vec<genom_model::component::Ref<ServiceId>>| {
+                c.services
+                    .iter()
+                    .filter(|&(t, ts)| t != s && rule(ts).iter().any(|r| r.id == s))
+                    .map(|(t, _)| t)
+                    .collect::<Vec<ServiceId>>()
+            };
             let ctl_wcet = svc
                 .control
                 .map(|k| c.codels[k].wcet.map_or(0, |w| units(w.ns, unit)));

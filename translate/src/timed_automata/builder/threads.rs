@@ -3,15 +3,15 @@
 
 use std::collections::BTreeMap;
 
-use crate::behaviour::{Effect, Ending};
-use crate::component::{CodelId, uses_conflict as conflict};
-
-use super::graph::loc;
-use super::{Builder, event_id};
-use crate::timed_automata::{
+use genom_model::behaviour::{Effect, Ending};
+use genom_model::component::{CodelId, uses_conflict as conflict};
+use genom_model::timed_automata::{
     ClockConstraint, ClockId, CmpOp, Edge, Expr, LabelKind, Location, LocationId, ProcessId,
     ProcessKind, Stmt,
 };
+
+use super::graph::loc;
+use super::{Builder, event_id};
 
 impl<'a> Builder<'a> {
     pub(super) fn lock_update(&self, codel: CodelId, delta: i64) -> Vec<Stmt> {
@@ -206,11 +206,11 @@ impl<'a> Builder<'a> {
                     };
                     let outcome = match f.outcome {
                         Some(o) => match o {
-                            crate::component::Outcome::Codel(n) => {
+                            genom_model::component::Outcome::Codel(n) => {
                                 format!("with {}", c.codels[n].name.name)
                             }
-                            crate::component::Outcome::End => "with end".to_owned(),
-                            crate::component::Outcome::Report(r) => format!(
+                            genom_model::component::Outcome::End => "with end".to_owned(),
+                            genom_model::component::Outcome::Report(r) => format!(
                                 "with {}",
                                 c.services[s]
                                     .reports

@@ -11,7 +11,7 @@
 //! for the control thread. Serving or dropping a ticket moves the later
 //! ones up by one. `async` codels take no ticket (7.2).
 
-use crate::timed_automata::{CmpOp, Expr, Stmt, VarId};
+use genom_model::timed_automata::{CmpOp, Expr, Stmt, VarId};
 
 use super::Builder;
 use super::stmts::{idx, is, set, v};

@@ -7,7 +7,7 @@
 //! `e` is the name of the edge's local variable that says an instance
 //! ended (it triggers the re-examination of pending interrupters).
 
-use crate::timed_automata::{Expr, LValue, Stmt, VarId};
+use genom_model::timed_automata::{Expr, LValue, Stmt, VarId};
 
 use super::{Builder, DRAIN, PERM_STOP, STOPPED};
 
@@ -70,7 +70,7 @@ impl Builder<'_> {
     }
 
     /// `done_S := 1` for a control service, when tracked.
-    pub(super) fn mark_service_done(&self, s: crate::component::ServiceId) -> Vec<Stmt> {
+    pub(super) fn mark_service_done(&self, s: genom_model::component::ServiceId) -> Vec<Stmt> {
         self.done
             .get(&s)
             .map(|&d| vec![set(d, 1)])
@@ -175,7 +175,7 @@ impl Builder<'_> {
         Expr::or([
             Expr::ne(v(self.phase), Expr::int(super::BOOT)),
             Expr::cmp(
-                crate::timed_automata::CmpOp::Ge,
+                genom_model::timed_automata::CmpOp::Ge,
                 v(self.booted),
                 Expr::int(idx(t)),
             ),

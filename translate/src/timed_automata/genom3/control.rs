@@ -12,8 +12,8 @@
 //! exception (the request changes nothing). The others are instantaneous.
 //! Also the network's urgency predicate.
 
-use crate::component::ServiceId;
-use crate::timed_automata::{
+use genom_model::component::ServiceId;
+use genom_model::timed_automata::{
     ClockConstraint, CmpOp, Edge, Expr, Location, Process, ProcessKind, Stmt,
 };
 

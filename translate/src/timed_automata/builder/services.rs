@@ -3,12 +3,12 @@
 
 use std::collections::BTreeSet;
 
-use crate::behaviour::{Effect, Ending};
-use crate::component::ServiceId;
+use genom_model::behaviour::{Effect, Ending};
+use genom_model::component::ServiceId;
+use genom_model::timed_automata::{Expr, LValue, Stmt};
 
 use super::Builder;
 use super::bookkeeping::Before;
-use crate::timed_automata::{Expr, LValue, Stmt};
 
 impl<'a> Builder<'a> {
     /// `System::end`: the main instance of `s` ends.

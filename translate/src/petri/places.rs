@@ -1,12 +1,12 @@
 //! The places of the net: per service its positions, pending flag, wait
 //! and dropping places and request stages, and the initial marking.
 
-use crate::behaviour::PosId;
-use crate::component::{CodelId, ServiceId};
-use crate::kinds::ServiceKind;
+use genom_model::behaviour::PosId;
+use genom_model::component::{CodelId, ServiceId};
+use genom_model::kinds::ServiceKind;
+use genom_model::petri::{PlaceId, PlaceKind, ServicePlaces};
 
 use super::{Builder, position_name, position_text, stop_targets};
-use crate::petri::{PlaceId, PlaceKind, ServicePlaces};
 
 impl<'a> Builder<'a> {
     pub(super) fn places(&mut self) {

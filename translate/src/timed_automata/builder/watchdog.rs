@@ -2,14 +2,14 @@
 //! instance, the interrupt at the max-time, and the probe that finds a
 //! max-time exceeded.
 
-use crate::component::ServiceId;
-
-use super::graph::loc;
-use super::{Builder, event_id};
-use crate::timed_automata::{
+use genom_model::component::ServiceId;
+use genom_model::timed_automata::{
     ClockConstraint, ClockId, CmpOp, Edge, Expr, LabelKind, Location, LocationId, ProcessId,
     ProcessKind, Stmt,
 };
+
+use super::graph::loc;
+use super::{Builder, event_id};
 
 impl<'a> Builder<'a> {
     pub(super) fn watchdog_process(&mut self, s: ServiceId) {

@@ -3,14 +3,14 @@
 
 use std::collections::BTreeSet;
 
-use crate::component::ServiceId;
+use genom_model::component::ServiceId;
+use genom_model::timed_automata::{
+    ClockConstraint, CmpOp, Edge, Expr, LabelKind, Location, ProcessKind, Stmt,
+};
 
 use super::bookkeeping::Before;
 use super::graph::loc;
 use super::{Builder, event_id};
-use crate::timed_automata::{
-    ClockConstraint, CmpOp, Edge, Expr, LabelKind, Location, ProcessKind, Stmt,
-};
 
 impl<'a> Builder<'a> {
     pub(super) fn control_process(&mut self) {

@@ -1,7 +1,7 @@
 //! The time unit, as the engine computes it: the GCD of the durations of
 //! the component, and the timed clusters the watchdogs are measured in.
 
-use crate::component::{Component, ServiceId};
+use genom_model::component::{Component, ServiceId};
 
 fn gcd(a: u64, b: u64) -> u64 {
     if b == 0 { a } else { gcd(b, a % b) }

@@ -59,9 +59,11 @@ mod tasks;
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::component::{CodelId, Component, ServiceId};
-use crate::span::Span;
-use crate::timed_automata::{Clock, ClockId, ClockRole, EventId, Expr, IntVar, Network, VarId};
+use genom_model::component::{CodelId, Component, ServiceId};
+use genom_model::span::Span;
+use genom_model::timed_automata::{
+    Clock, ClockId, ClockRole, EventId, Expr, IntVar, Network, VarId,
+};
 
 use read::Read;
 
@@ -108,8 +110,8 @@ fn event(name: &str) -> EventId {
 use super::names::sanitize;
 
 /// Location `i` of a process.
-fn lid(i: usize) -> crate::timed_automata::LocationId {
-    crate::timed_automata::LocationId(u32::try_from(i).unwrap_or(u32::MAX))
+fn lid(i: usize) -> genom_model::timed_automata::LocationId {
+    genom_model::timed_automata::LocationId(u32::try_from(i).unwrap_or(u32::MAX))
 }
 
 /// An edge from location `from` to `to` on event `ev` under `guard`, with
@@ -120,8 +122,8 @@ fn plain_edge(
     guard: Expr,
     span: Span,
     desc: String,
-) -> crate::timed_automata::Edge {
-    crate::timed_automata::Edge {
+) -> genom_model::timed_automata::Edge {
+    genom_model::timed_automata::Edge {
         from: lid(from),
         to: lid(to),
         event: event(ev),
@@ -192,29 +194,26 @@ const PERM_STOP: i64 = 3;
 const STOPPED: i64 = 4;
 const FAILED: i64 = 5;
 
-impl Network {
-    /// The network of a GenoM3 component in GenoM3's timed semantics (one
-    /// instance per activity, two for an activity that interrupts itself:
-    /// genom-check's default `--max-instances 1`).
-    pub fn build_genom3(c: &Component) -> Result<Network, Genom3NetworkError> {
-        let g = c
-            .genom3
-            .as_deref()
-            .filter(|g| !g.is_interface)
-            .ok_or(Genom3NetworkError::NotGenom3)?;
-        let r = read::read(c, g);
-        refuse(&r)?;
-        let mut b = Builder::new(c, r);
-        b.declare();
-        b.initial_values();
-        for t in 0..b.r.tasks.len() {
-            b.task_process(t);
-        }
-        b.control_process();
-        b.net.urgency = b.urgency();
-        b.net.horizon = b.horizon();
-        Ok(b.net)
+/// The network of a GenoM3 component in GenoM3's timed semantics
+/// ([`BuildNetwork::build_genom3`](super::BuildNetwork::build_genom3)).
+pub(super) fn build(c: &Component) -> Result<Network, Genom3NetworkError> {
+    let g = c
+        .genom3
+        .as_deref()
+        .filter(|g| !g.is_interface)
+        .ok_or(Genom3NetworkError::NotGenom3)?;
+    let r = read::read(c, g);
+    refuse(&r)?;
+    let mut b = Builder::new(c, r);
+    b.declare();
+    b.initial_values();
+    for t in 0..b.r.tasks.len() {
+        b.task_process(t);
     }
+    b.control_process();
+    b.net.urgency = b.urgency();
+    b.net.horizon = b.horizon();
+    Ok(b.net)
 }
 
 /// What the network does not model: a task with more slots than
@@ -254,7 +253,7 @@ impl<'a> Builder<'a> {
             .map(|s| (*s).to_owned())
             .collect();
         names.extend(EVENTS.iter().map(|(n, _)| (*n).to_owned()));
-        let net = Network::empty(name, unit, &EVENTS);
+        let net = super::names::empty(name, unit, &EVENTS);
         Builder {
             c,
             r,

@@ -9,10 +9,10 @@
 
 use std::collections::BTreeMap;
 
-use crate::component::genom3::{FsmCodel, Genom3Info, ParamSource};
-use crate::component::{CodelId, Component, ServiceId, ThreadId};
-use crate::kinds::CodelKind;
-use crate::span::Span;
+use genom_model::component::genom3::{FsmCodel, Genom3Info, ParamSource};
+use genom_model::component::{CodelId, Component, ServiceId, ThreadId};
+use genom_model::kinds::CodelKind;
+use genom_model::span::Span;
 
 /// Where a yield leads: a state (`Some`) or `ether` (`None`), and whether
 /// it is a `pause::` yield.
@@ -139,8 +139,8 @@ pub(super) struct Access {
 impl Access {
     /// An attribute's ids copy: it writes its inputs' ids members and reads
     /// its outputs'.
-    fn of_attribute(s: &crate::component::Service) -> Vec<Access> {
-        let member = |p: &crate::component::Param, write: bool| {
+    fn of_attribute(s: &genom_model::component::Service) -> Vec<Access> {
+        let member = |p: &genom_model::component::Param, write: bool| {
             // The member as the attribute's parameter names it.
             p.data.as_ref().map(|d| Access {
                 base: "ids".to_owned(),

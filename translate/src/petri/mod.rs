@@ -1,21 +1,34 @@
-//! The construction of a [`PetriNet`] from a component and its local
-//! machines: the builder, its basic helpers and the names of positions.
-//! Its children add the places ([`places`]), the request chains
-//! ([`requests`]) and the other transitions ([`transitions`]).
+//! The translation of a component into its Petri net
+//! ([`genom_model::petri::PetriNet`]: the net's types, its priorities and
+//! what its places and transitions stand for are the model's), from the
+//! [`Component`] and its [`Behaviour`] (the per-service local machines), so
+//! the codel steps are those of the one table every engine reads.
+//! [`BuildPetriNet`] gives it as `PetriNet::build`.
+//!
+//! This file holds the builder, its basic helpers and the names of
+//! positions. Its children add the places (`places`), the request chains
+//! (`requests`) and the other transitions (`transitions`).
 
 mod places;
 mod requests;
 mod transitions;
 
-use crate::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
-use crate::component::{CodelId, Component, Idx, Ref, Service, ServiceId};
-use crate::span::Span;
+use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
+use genom_model::component::{CodelId, Component, Idx, Ref, Service, ServiceId};
+use genom_model::petri::{
+    PetriNet, Place, PlaceId, PlaceKind, ServicePlaces, Transition, TransitionKind,
+};
+use genom_model::span::Span;
 
-use crate::petri::{PetriNet, Place, PlaceId, PlaceKind, ServicePlaces, Transition};
-
-impl PetriNet {
+/// The construction of a [`PetriNet`], as an associated function of the
+/// net (bring the trait into scope and call `PetriNet::build(c, b)`).
+pub trait BuildPetriNet {
     /// Builds the net of a component from its local machines.
-    pub fn build(c: &Component, b: &Behaviour) -> PetriNet {
+    fn build(c: &Component, b: &Behaviour) -> Self;
+}
+
+impl BuildPetriNet for PetriNet {
+    fn build(c: &Component, b: &Behaviour) -> PetriNet {
         let net = PetriNet {
             places: Vec::new(),
             transitions: Vec::new(),
@@ -30,6 +43,56 @@ impl PetriNet {
             builder.service_transitions(s);
         }
         builder.net
+    }
+}
+
+/// A transition made step by step: its identity, then its arcs of weight
+/// one (an inhibitor arc once per place).
+trait Arcs: Sized {
+    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self;
+    fn pre(self, p: PlaceId) -> Self;
+    fn post(self, p: PlaceId) -> Self;
+    fn read(self, p: PlaceId) -> Self;
+    fn inhibit(self, places: impl IntoIterator<Item = PlaceId>) -> Self;
+}
+
+impl Arcs for Transition {
+    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self {
+        Transition {
+            name,
+            label,
+            span,
+            priority,
+            kind,
+            pre: Vec::new(),
+            post: Vec::new(),
+            read: Vec::new(),
+            inhibit: Vec::new(),
+        }
+    }
+
+    fn pre(mut self, p: PlaceId) -> Self {
+        self.pre.push((p, 1));
+        self
+    }
+
+    fn post(mut self, p: PlaceId) -> Self {
+        self.post.push((p, 1));
+        self
+    }
+
+    fn read(mut self, p: PlaceId) -> Self {
+        self.read.push((p, 1));
+        self
+    }
+
+    fn inhibit(mut self, places: impl IntoIterator<Item = PlaceId>) -> Self {
+        for p in places {
+            if !self.inhibit.iter().any(|&(q, _)| q == p) {
+                self.inhibit.push((p, 1));
+            }
+        }
+        self
     }
 }
 

@@ -1,13 +1,13 @@
 //! The transitions other than requests: urgent starts, clearing and
 //! dropping wait tokens, codel begins and finishes, and watchdogs.
 
-use crate::behaviour::{Effect, Ending, PosId, Position};
-use crate::component::{CodelId, Outcome, ServiceId};
-
-use super::{Builder, others, position_name, position_text, stop_targets};
-use crate::petri::{
+use genom_model::behaviour::{Effect, Ending, PosId, Position};
+use genom_model::component::{CodelId, Outcome, ServiceId};
+use genom_model::petri::{
     PRIORITY_CLEAR, PRIORITY_DROP, PRIORITY_START, PRIORITY_STEP, Transition, TransitionKind,
 };
+
+use super::{Arcs, Builder, others, position_name, position_text, stop_targets};
 
 impl<'a> Builder<'a> {
     pub(super) fn service_transitions(&mut self, s: ServiceId) {

@@ -3,10 +3,10 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::component::ServiceId;
+use genom_model::component::ServiceId;
+use genom_model::timed_automata::{Expr, Stmt};
 
 use super::Builder;
-use crate::timed_automata::{Expr, Stmt};
 
 impl<'a> Builder<'a> {
     pub(super) fn tracked(&self, s: ServiceId) -> bool {

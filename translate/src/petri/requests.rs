@@ -2,14 +2,14 @@
 //! steps 1–4, then its chain of request-level micro-steps (remove pending
 //! instances, interrupt the `stops` targets, acknowledge).
 
-use crate::behaviour::{Effect, IDLE, Position};
-use crate::component::{CodelId, Idx, ServiceId, ThreadId};
-use crate::span::Span;
-
-use super::{Builder, others, position_name, position_text, stop_targets};
-use crate::petri::{
+use genom_model::behaviour::{Effect, IDLE, Position};
+use genom_model::component::{CodelId, Idx, ServiceId, ThreadId};
+use genom_model::petri::{
     PRIORITY_REQUEST, PRIORITY_STEP, PlaceId, PlaceKind, Transition, TransitionKind,
 };
+use genom_model::span::Span;
+
+use super::{Arcs, Builder, others, position_name, position_text, stop_targets};
 
 impl<'a> Builder<'a> {
     /// Steps 1–4 as the arcs of one transition, then the chain.

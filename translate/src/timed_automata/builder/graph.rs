@@ -1,12 +1,12 @@
 //! Adding processes, locations and edges to the network, and the guard
 //! that every step but a watchdog probe's needs.
 
-use crate::span::Span;
-
-use super::{Builder, sanitize};
-use crate::timed_automata::{
+use genom_model::span::Span;
+use genom_model::timed_automata::{
     Edge, Expr, Label, LabelKind, Location, LocationId, Process, ProcessId, ProcessKind,
 };
+
+use super::{Builder, sanitize};
 
 impl<'a> Builder<'a> {
     pub(super) fn add_process(

@@ -13,7 +13,7 @@
 //! for an exception, 9.1), and the urgent `drop` of a permanent codel the
 //! shutdown killed.
 
-use crate::timed_automata::{
+use genom_model::timed_automata::{
     ClockConstraint, CmpOp, Edge, Expr, Label, LabelKind, Location, Process, ProcessId,
     ProcessKind, Stmt,
 };
@@ -22,7 +22,7 @@ use super::read::KeyOwner;
 use super::stmts::{idx, is, set};
 use super::{Builder, FAILED, STOPPED, lid};
 
-fn cc(clock: crate::timed_automata::ClockId, op: CmpOp, bound: i64) -> ClockConstraint {
+fn cc(clock: genom_model::timed_automata::ClockId, op: CmpOp, bound: i64) -> ClockConstraint {
     ClockConstraint { clock, op, bound }
 }
 
@@ -210,7 +210,7 @@ impl Builder<'_> {
     fn idle_overruns(
         &mut self,
         t: usize,
-        x: crate::timed_automata::ClockId,
+        x: genom_model::timed_automata::ClockId,
         per: i64,
         p: &mut Process,
     ) {

@@ -1,6 +1,6 @@
 //! The construction of a [`Network`] from a component and its local
 //! machines: the builder's state (the static facts about services and
-//! threads, the names in use) and the entry point [`Network::build`].
+//! threads, the names in use) and the entry point [`build`].
 //! Its children add, in order, the clocks and variables ([`clocks`]), the
 //! control thread ([`control`]), the execution threads ([`threads`]) and the
 //! watchdogs ([`watchdog`]), from shared layers below them: [`state`]
@@ -20,11 +20,11 @@ mod watchdog;
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::behaviour::{Behaviour, PosId, Position, ServiceMachine};
-use crate::component::{Component, ServiceId, StructureId, ThreadId};
-use crate::span::Span;
+use genom_model::behaviour::{Behaviour, PosId, Position, ServiceMachine};
+use genom_model::component::{Component, ServiceId, StructureId, ThreadId};
+use genom_model::span::Span;
+use genom_model::timed_automata::{Clock, ClockId, ClockRole, EventId, IntVar, Network, VarId};
 
-use crate::timed_automata::{Clock, ClockId, ClockRole, EventId, IntVar, Network, VarId};
 use units::{unit_ns, units};
 
 /// Classes of positions, in the order their values are numbered.
@@ -119,21 +119,20 @@ struct Builder<'a> {
     locals: usize,
 }
 
-impl Network {
-    /// Builds the network of a component from its local machines.
-    pub fn build(c: &Component, b: &Behaviour) -> Network {
-        let mut bld = Builder::new(c, b);
-        bld.declare();
-        bld.control_process();
-        for k in 0..bld.thrs.len() {
-            bld.thread_process(k);
-        }
-        for s in c.services.ids() {
-            bld.watchdog_process(s);
-        }
-        bld.net.urgency = bld.network_urgency();
-        bld.net
+/// Builds the network of a component from its local machines
+/// ([`BuildNetwork::build`](super::BuildNetwork::build)).
+pub(super) fn build(c: &Component, b: &Behaviour) -> Network {
+    let mut bld = Builder::new(c, b);
+    bld.declare();
+    bld.control_process();
+    for k in 0..bld.thrs.len() {
+        bld.thread_process(k);
     }
+    for s in c.services.ids() {
+        bld.watchdog_process(s);
+    }
+    bld.net.urgency = bld.network_urgency();
+    bld.net
 }
 
 /// Event names and what they do.
@@ -190,7 +189,7 @@ impl<'a> Builder<'a> {
         }
         let name = sanitize(&c.name.name);
         names.insert(name.clone());
-        let net = Network::empty(name, unit, &EVENTS);
+        let net = super::names::empty(name, unit, &EVENTS);
         for (n, _) in EVENTS {
             names.insert(n.to_owned());
         }
