@@ -66,5 +66,5 @@ pub fn failure() -> Option<&'static str> {
 /// for `-o` it is a file name, not standard input.)
 pub fn shown(path: &std::path::Path) -> String {
     let path = genom_model::span::display_path(path);
-    genom_model::render::escaped(&path).into_owned()
+    genom_render::escaped(&path).into_owned()
 }

@@ -87,8 +87,8 @@ pub enum InputError {
 
 impl CheckResult {
     /// The report of this result for rendering, under the path as given.
-    pub fn report<'a>(&'a self, path: &'a str) -> genom_model::render::FileReport<'a> {
-        genom_model::render::FileReport {
+    pub fn report<'a>(&'a self, path: &'a str) -> genom_render::FileReport<'a> {
+        genom_render::FileReport {
             path,
             sources: &self.sources,
             diagnostics: &self.diagnostics,

@@ -327,7 +327,7 @@ fn each_fixture_report_is_snapshotted() {
         let shown = format!("{DIR}/{}", path.file_name().unwrap().to_string_lossy());
         let result =
             check_path(Path::new(&shown), &Inputs::default(), &CheckOptions::new()).unwrap();
-        let report = genom_model::render::FileReport {
+        let report = genom_render::FileReport {
             path: &shown,
             sources: &result.sources,
             diagnostics: &result.diagnostics,
@@ -336,16 +336,14 @@ fn each_fixture_report_is_snapshotted() {
             pragmas: &[],
             response_times: &[],
         };
-        let options = genom_model::render::human::HumanOptions {
+        let options = genom_render::human::HumanOptions {
             color: false,
             width: 100,
         };
         let mut text = std::fs::read_to_string(path).unwrap();
         text.push_str("\n----- report -----\n");
-        text.push_str(&genom_model::render::human::render_diagnostics(
-            &report, options,
-        ));
-        text.push_str(&genom_model::render::human::render_summary(
+        text.push_str(&genom_render::human::render_diagnostics(&report, options));
+        text.push_str(&genom_render::human::render_summary(
             &shown,
             report.counts(),
         ));

@@ -6,9 +6,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use genom_model::component::Component;
-use genom_model::render::{FileReport, human};
 use genom_model::{Code, Diagnostic, SourceMap, Statistics};
 use genom_parser::{Loader, MemoryLoader};
+use genom_render::{FileReport, human};
 
 use crate::{CheckOptions, verify};
 

@@ -37,6 +37,7 @@ use genom_model::behaviour::{Behaviour, Position};
 use genom_model::component::{CodelId, Idx};
 use genom_model::kinds::CodelKind;
 use genom_model::petri::{PRIORITY_DROP, PetriNet, PlaceId, PlaceKind, Transition};
+use genom_translate::petri::BuildPetriNet;
 
 use crate::pnml::{level_name, location, tool_version};
 use crate::{ExportError, ExportInput, Exported};

@@ -23,6 +23,7 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::timed_automata::Network;
 use genom_model::{Counts, SourceMap};
+use genom_translate::timed_automata::BuildNetwork;
 
 /// An output format of `genom-check export`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]

@@ -35,6 +35,7 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::Idx;
 use genom_model::petri::{PetriNet, Place, PlaceKind, Transition, TransitionKind};
 use genom_model::{SourceMap, Span};
+use genom_translate::petri::BuildPetriNet;
 
 use crate::{ExportError, ExportInput, Exported};
 

@@ -1,6 +1,7 @@
 //! The `tchecker` export: the component's network of timed automata
-//! ([`Network::build`], the timed semantics of the zone engine) in
-//! TChecker's text format, for `tck-reach` and `tck-liveness`.
+//! ([`Network::build`](genom_translate::timed_automata::BuildNetwork::build),
+//! the timed semantics of the zone engine) in TChecker's text format, for
+//! `tck-reach` and `tck-liveness`.
 //!
 //! - `system:` is the component's name; `event:` declares the network's
 //!   events; `clock:1:` each clock; `int:SIZE:MIN:MAX:INIT:` each bounded

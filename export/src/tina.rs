@@ -52,6 +52,8 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx};
 use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceId, Transition, TransitionKind};
 use genom_model::timed_automata::Network;
+use genom_translate::petri::BuildPetriNet;
+use genom_translate::timed_automata::BuildNetwork;
 
 use crate::pnml::{LEVELS, level_name, location, tool_version};
 use crate::{ExportError, ExportInput, Exported};

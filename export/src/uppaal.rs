@@ -1,6 +1,7 @@
 //! The `uppaal` export: the component's network of timed automata
-//! ([`Network::build`], the timed semantics of the zone engine) as an
-//! UPPAAL XML model, with its query file.
+//! ([`Network::build`](genom_translate::timed_automata::BuildNetwork::build),
+//! the timed semantics of the zone engine) as an UPPAAL XML model, with its
+//! query file.
 //!
 //! - `<declaration>`: every clock, bounded integer and array of the
 //!   network (one comment line each), the urgent broadcast channel `hurry`

@@ -27,8 +27,8 @@
 use std::collections::BTreeSet;
 
 use genom_model::component::{Component, ServiceId};
+use genom_model::duration::format_ns;
 use genom_model::kinds::ServiceKind;
-use genom_model::render::human::format_ns;
 use genom_model::{Code, Counts, Diagnostic, Severity, Statistics};
 
 use crate::Verification;

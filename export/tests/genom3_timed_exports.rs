@@ -16,6 +16,7 @@ use genom_check::{CheckOptions, Inputs, check_path};
 use genom_export::{ExportInput, Exported, Format, Verification};
 use genom_model::component::Component;
 use genom_model::timed_automata::{LabelKind, Network};
+use genom_translate::timed_automata::BuildNetwork;
 
 const TIMING: &str = "../tests/fixtures/genom3/timing";
 

@@ -18,6 +18,8 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::Idx;
 use genom_model::kinds::CodelKind;
 use genom_model::petri::{PRIORITY_STEP, PetriNet, TransitionKind};
+use genom_translate::petri::BuildPetriNet;
+use genom_translate::timed_automata::BuildNetwork;
 
 /// Exports `path` in `format` with a fixed verification record.
 fn export(result: &CheckResult, format: Format) -> String {

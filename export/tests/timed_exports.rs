@@ -21,6 +21,7 @@ use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
 use genom_model::timed_automata::{CmpOp, LabelKind, Network, ProcessKind};
 use genom_parser::FsLoader;
+use genom_translate::timed_automata::BuildNetwork;
 
 fn stem(path: &Path) -> String {
     path.file_stem()

@@ -2,9 +2,9 @@
 //! include, and the invariants every result must keep (each label inside a
 //! loaded file, both renderers total).
 
-use genom_model::render::{FileReport, human, json};
 use genom_model::{Diagnostic, SourceMap, Span, Statistics};
 use genom_parser::MemoryLoader;
+use genom_render::{FileReport, human, json};
 
 /// The path the fuzzed text is checked as.
 pub const PATH: &str = "fuzz.gen";

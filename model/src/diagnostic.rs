@@ -4,7 +4,7 @@
 //!
 //! Every stage (parser, resolver, checks, engines) builds these through small
 //! named constructors in its own `diagnostics.rs`; they are rendered in one
-//! place ([`crate::render`]).
+//! place (the `genom-render` crate).
 
 use std::fmt;
 use std::str::FromStr;

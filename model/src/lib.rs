@@ -1,19 +1,25 @@
 //! The shared foundation of genom-check: source spans and files, the one
-//! diagnostic type with its stable codes, traces and their rendering (human
-//! reports with miette, and the versioned JSON document); the resolved
-//! component model that every verification stage and export reads.
+//! diagnostic type with its stable codes, traces, durations as people read
+//! them; the resolved component model that every verification stage and
+//! export reads, its service machines ([`behaviour`]), and the data of the
+//! networks it translates into (the [`timed_automata`] network and the
+//! [`petri`] net, which the exports print and the test oracles interpret).
+//!
+//! It is the ground floor: it depends on no other crate of the workspace.
+//! Rendering diagnostics (`genom-render`) and building the networks and nets
+//! (`genom-translate`) live above it, so that a change there does not
+//! rebuild the engines.
 
 pub mod behaviour;
 pub mod component;
 pub mod diagnostic;
 pub mod dialect;
-mod duration;
+pub mod duration;
 pub mod kinds;
 pub mod limits;
 pub mod loader;
 pub mod nesting;
 pub mod petri;
-pub mod render;
 pub mod response;
 pub mod span;
 pub mod stats;

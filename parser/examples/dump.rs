@@ -8,11 +8,7 @@ fn main() {
             for d in &r.diagnostics {
                 println!(
                     "{}",
-                    genom_model::render::human::render_diagnostic(
-                        &r.sources,
-                        d,
-                        Default::default()
-                    )
+                    genom_render::human::render_diagnostic(&r.sources, d, Default::default())
                 );
             }
         }

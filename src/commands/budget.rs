@@ -36,9 +36,9 @@ mod with_smt {
         BudgetOptions, Budgets, CodelBudget, Limit, SCALE_STEPS, ScaleBudget, budgets,
     };
     use genom_model::component::{CodelId, Component};
-    use genom_model::render::human::format_ns;
-    use genom_model::render::{FileReport, github, human, json, sarif};
+    use genom_model::duration::format_ns;
     use genom_model::{Code, Dialect, Severity};
+    use genom_render::{FileReport, github, human, json, sarif};
     use serde_json::{Value, json};
 
     use super::super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};

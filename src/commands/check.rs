@@ -2,8 +2,8 @@
 //! (human or JSON), then returns the exit status.
 
 use genom_check::{CheckOptions, CheckResult, display};
-use genom_model::render::{FileReport, escaped, github, human, json, sarif};
 use genom_model::{Counts, Dialect, Severity};
+use genom_render::{FileReport, escaped, github, human, json, sarif};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{CheckArgs, Deny, EngineArg, Format, OutputArgs};

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::Severity;
-use genom_model::render::{FileReport, escaped, github, human, json, sarif};
+use genom_render::{FileReport, escaped, github, human, json, sarif};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};

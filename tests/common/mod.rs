@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult};
 use genom_model::Diagnostic;
 use genom_model::component::Component;
-use genom_model::render::{FileReport, human};
 use genom_model::{Code, Severity};
 use genom_parser::FsLoader;
+use genom_render::{FileReport, human};
 
 /// The workspace root (integration tests run from it).
 pub fn root() -> PathBuf {

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use genom_model::behaviour::Behaviour;
 use genom_model::petri::PetriNet;
+use genom_translate::petri::BuildPetriNet;
 use petri_common::{Sizes, cross_check, load, parse};
 
 const LIMIT: usize = 200_000;

@@ -48,6 +48,7 @@ use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
 use genom_model::timed_automata::{Label, LabelKind, Network};
 use genom_model::{Code, Span};
+use genom_translate::timed_automata::BuildNetwork;
 
 /// Time allowed to one `tck-reach` run.
 const TCK_TIMEOUT: Duration = Duration::from_secs(30);

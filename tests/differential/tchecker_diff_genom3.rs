@@ -53,6 +53,7 @@ use genom_model::Code;
 use genom_model::component::Component;
 use genom_model::component::genom3::FsmCodel;
 use genom_model::timed_automata::{Label, LabelKind, Network};
+use genom_translate::timed_automata::BuildNetwork;
 
 const TIMING: &str = "tests/fixtures/genom3/timing";
 const RESPONSE: &str = "tests/fixtures/genom3/response";

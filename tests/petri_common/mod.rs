@@ -18,6 +18,7 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};
 use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceKind};
 use genom_parser::{FsLoader, MemoryLoader};
+use genom_translate::petri::BuildPetriNet;
 
 /// A configuration as both sides can express it: `init_done`, then per
 /// service its position and its pending instance's wait bits.

@@ -13,8 +13,8 @@ use std::time::Duration;
 use assert_cmd::Command;
 use genom_check::CheckOptions;
 use genom_model::Severity;
-use genom_model::render::{FileReport, human, json};
 use genom_parser::FsLoader;
+use genom_render::{FileReport, human, json};
 
 /// The regression inputs, sorted.
 fn inputs() -> Vec<PathBuf> {

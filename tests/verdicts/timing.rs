@@ -25,7 +25,7 @@ use assert_cmd::Command;
 use genom_check::{CheckOptions, CheckResult};
 use genom_checker::replay::{Claim, replay, replay_claim};
 use genom_model::component::{Component, ServiceId};
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Event, Severity, Trace, TraceStep};
 use serde_json::Value;
 use timed_trace::{TimedClaim, check_timed, loops_without_bound};

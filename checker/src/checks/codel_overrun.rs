@@ -5,8 +5,8 @@ use std::collections::BTreeSet;
 
 use genom_model::component::genom3::{FsmCodel, Genom3Info};
 use genom_model::component::{Component, ThreadId};
+use genom_model::duration::format_ns;
 use genom_model::kinds::CodelKind;
-use genom_model::render::human::format_ns;
 use genom_model::{Code, Diagnostic, Span, Trace};
 
 use crate::genom3::Machine;

@@ -72,7 +72,7 @@ pub fn deadline_without_wcet(c: &Component, s: ServiceId, ns: u64) -> Diagnostic
         format!(
             "verification is incomplete: the deadline of `{}` ({}) is not decided: no codel has a WCET",
             svc.name.name,
-            genom_model::render::human::format_ns(ns)
+            genom_model::duration::format_ns(ns)
         ),
         svc.name.span,
         "deadline not decided",

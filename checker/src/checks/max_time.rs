@@ -4,7 +4,7 @@
 
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, ServiceId};
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Trace};
 
 use crate::timed::TimedFacts;

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, ServiceId};
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::response::{Bound, ResponseTime, sort_response_times};
 use genom_model::{Code, Diagnostic};
 

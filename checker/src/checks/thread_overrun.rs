@@ -3,7 +3,7 @@
 //! with a timed trace.
 
 use genom_model::component::{Component, Thread};
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Trace};
 
 use crate::genom3::Machine;

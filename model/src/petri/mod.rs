@@ -1,8 +1,9 @@
 //! The component's Petri net: a place/transition net with inhibitor arcs,
 //! read (test) arcs and transition priorities whose reachable *stable*
 //! markings are exactly the configurations of the untimed explorer
-//! (`checker/src/engine/system.rs`, LANGUAGE.md section 3). It is built from
-//! the [`Component`](crate::component::Component) and its
+//! (`checker/engine/src/engine/system/`, LANGUAGE.md section 3). The
+//! `genom-translate` crate builds it from the
+//! [`Component`](crate::component::Component) and its
 //! [`Behaviour`](crate::behaviour::Behaviour) (the per-service local machines),
 //! so the codel steps are those of the one table every engine reads.
 //!
@@ -43,11 +44,9 @@
 //! token ranks above starting so that an instance that ends and the new
 //! instance of the same service are never confused.
 //!
-//! The module's files: this one holds the net's types and its queries;
-//! `builder` builds it from a component (places, requests, the other
-//! transitions).
-
-mod builder;
+//! This module holds the net's types and its queries (what the exports
+//! print and a token game reads); `translate/src/petri/` builds it from a
+//! component (places, requests, the other transitions).
 
 use crate::behaviour::PosId;
 use crate::component::{Idx, ServiceId};
@@ -191,44 +190,6 @@ pub struct Transition {
 }
 
 impl Transition {
-    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self {
-        Transition {
-            name,
-            label,
-            span,
-            priority,
-            kind,
-            pre: Vec::new(),
-            post: Vec::new(),
-            read: Vec::new(),
-            inhibit: Vec::new(),
-        }
-    }
-
-    fn pre(mut self, p: PlaceId) -> Self {
-        self.pre.push((p, 1));
-        self
-    }
-
-    fn post(mut self, p: PlaceId) -> Self {
-        self.post.push((p, 1));
-        self
-    }
-
-    fn read(mut self, p: PlaceId) -> Self {
-        self.read.push((p, 1));
-        self
-    }
-
-    fn inhibit(mut self, places: impl IntoIterator<Item = PlaceId>) -> Self {
-        for p in places {
-            if !self.inhibit.iter().any(|&(q, _)| q == p) {
-                self.inhibit.push((p, 1));
-            }
-        }
-        self
-    }
-
     /// Whether the transition may fire in `marking` (ignoring priorities).
     pub fn enabled(&self, marking: &[u32]) -> bool {
         let count = |p: PlaceId| marking.get(p.index()).copied().unwrap_or(0);

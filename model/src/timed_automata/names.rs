@@ -148,24 +148,3 @@ impl Renaming {
         new
     }
 }
-
-/// A name made of `want` (sanitised) not in `taken`, with a numeric suffix
-/// when needed; `tmpN` names are kept for locals. Records it in `taken`.
-pub(crate) fn fresh(taken: &mut BTreeSet<String>, want: &str) -> String {
-    let base = sanitize(want);
-    let mut name = base.clone();
-    let mut k = 2;
-    while taken.contains(&name) || name.starts_with("tmp") && name[3..].parse::<u32>().is_ok() {
-        name = format!("{base}_{k}");
-        k += 1;
-    }
-    taken.insert(name.clone());
-    name
-}
-
-/// `s` with every character but ASCII letters and digits replaced by `_`.
-pub(crate) fn sanitize(s: &str) -> String {
-    s.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
-}

@@ -266,31 +266,6 @@ pub struct Network {
 }
 
 impl Network {
-    /// A network without clocks, variables or processes yet, with its
-    /// events (`(name, description)`), for the builders to fill.
-    pub(crate) fn empty(name: String, unit_ns: u64, events: &[(&str, &str)]) -> Network {
-        Network {
-            name,
-            unit_ns,
-            horizon: 1,
-            clocks: Vec::new(),
-            vars: Vec::new(),
-            events: events
-                .iter()
-                .map(|(n, d)| Event {
-                    name: (*n).to_owned(),
-                    description: (*d).to_owned(),
-                })
-                .collect(),
-            processes: Vec::new(),
-            syncs: Vec::new(),
-            labels: Vec::new(),
-            services: Vec::new(),
-            frozen: VarId(0),
-            urgency: Expr::FALSE,
-        }
-    }
-
     /// The clock.
     pub fn clock(&self, id: ClockId) -> &Clock {
         &self.clocks[id.0 as usize]

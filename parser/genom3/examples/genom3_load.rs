@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 
 use genom_genom3::{Genom3Options, load};
-use genom_model::render::human::{HumanOptions, render_diagnostic};
+use genom_render::human::{HumanOptions, render_diagnostic};
 
 fn main() {
     let mut options = Genom3Options {

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use genom_genom3::{Genom3Options, load};
-use genom_model::render::human::{HumanOptions, render_diagnostic};
 use genom_model::{Code, Severity};
+use genom_render::human::{HumanOptions, render_diagnostic};
 
 fn corpus() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/genom3");

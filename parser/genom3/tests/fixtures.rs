@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use genom_genom3::{FsLoader, Genom3Return, Loader, add_wcet_file, load_with};
-use genom_model::render::human::{HumanOptions, render_diagnostic};
 use genom_model::{Code, Severity};
+use genom_render::human::{HumanOptions, render_diagnostic};
 
 /// Loads a fixture by its path relative to the crate (stable in snapshots).
 fn load_fixture(path: &Path) -> Genom3Return {

@@ -350,6 +350,7 @@ const LINEAR: usize = 1024;
 mod tests {
     use genom_model::behaviour::Behaviour;
     use genom_model::petri::PetriNet;
+    use genom_translate::petri::BuildPetriNet;
 
     use super::*;
     use crate::engine::explore::explore;

@@ -193,7 +193,7 @@ fn explore_timed(
         let text = format!(
             "`{}` has not ended {} after its acknowledgment",
             s.name.name,
-            genom_model::render::human::format_ns(m)
+            genom_model::duration::format_ns(m)
         );
         let target = Target::Exceeded { member, clock, max };
         let trace = timed_trace(

@@ -275,7 +275,7 @@ fn late_trace(
 ) -> Option<Trace> {
     let c = ts.sys.component();
     let name = &c.services[ts.sys.service(i)].name.name;
-    let after = genom_model::render::human::format_ns(deadline_ns);
+    let after = genom_model::duration::format_ns(deadline_ns);
     let timed_ok = |t: &Trace| t.steps.last().is_some_and(|s| s.time_ns.is_some());
     for &(id, clock) in &seen.late {
         let text = format!("`{name}` has not replied {after} after its acknowledgment");

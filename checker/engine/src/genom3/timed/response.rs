@@ -30,7 +30,7 @@
 use std::collections::BTreeMap;
 
 use genom_model::component::ServiceId;
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::groups::groups;

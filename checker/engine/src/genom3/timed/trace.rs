@@ -14,7 +14,7 @@
 //!
 //! Every step carries its instant.
 
-use genom_model::render::human::format_ns;
+use genom_model::duration::format_ns;
 use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::{TG3Action, TG3State, TimedEngine, Who};

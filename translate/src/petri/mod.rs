@@ -1,0 +1,233 @@
+//! The translation of a component into its Petri net
+//! ([`genom_model::petri::PetriNet`]: the net's types, its priorities and
+//! what its places and transitions stand for are the model's), from the
+//! [`Component`] and its [`Behaviour`] (the per-service local machines), so
+//! the codel steps are those of the one table every engine reads.
+//! [`BuildPetriNet`] gives it as `PetriNet::build`.
+//!
+//! This file holds the builder, its basic helpers and the names of
+//! positions. Its children add the places (`places`), the request chains
+//! (`requests`) and the other transitions (`transitions`).
+
+mod places;
+mod requests;
+mod transitions;
+
+use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
+use genom_model::component::{CodelId, Component, Idx, Ref, Service, ServiceId};
+use genom_model::petri::{
+    PetriNet, Place, PlaceId, PlaceKind, ServicePlaces, Transition, TransitionKind,
+};
+use genom_model::span::Span;
+
+/// The construction of a [`PetriNet`], as an associated function of the
+/// net (bring the trait into scope and call `PetriNet::build(c, b)`).
+pub trait BuildPetriNet {
+    /// Builds the net of a component from its local machines.
+    fn build(c: &Component, b: &Behaviour) -> Self;
+}
+
+impl BuildPetriNet for PetriNet {
+    fn build(c: &Component, b: &Behaviour) -> PetriNet {
+        let net = PetriNet {
+            places: Vec::new(),
+            transitions: Vec::new(),
+            initial: Vec::new(),
+            services: Vec::new(),
+            init_done: PlaceId(0),
+            init_not_done: PlaceId(0),
+        };
+        let mut builder = Builder { c, b, net };
+        builder.places();
+        for s in c.services.ids() {
+            builder.service_transitions(s);
+        }
+        builder.net
+    }
+}
+
+/// A transition made step by step: its identity, then its arcs of weight
+/// one (an inhibitor arc once per place).
+trait Arcs: Sized {
+    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self;
+    fn pre(self, p: PlaceId) -> Self;
+    fn post(self, p: PlaceId) -> Self;
+    fn read(self, p: PlaceId) -> Self;
+    fn inhibit(self, places: impl IntoIterator<Item = PlaceId>) -> Self;
+}
+
+impl Arcs for Transition {
+    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self {
+        Transition {
+            name,
+            label,
+            span,
+            priority,
+            kind,
+            pre: Vec::new(),
+            post: Vec::new(),
+            read: Vec::new(),
+            inhibit: Vec::new(),
+        }
+    }
+
+    fn pre(mut self, p: PlaceId) -> Self {
+        self.pre.push((p, 1));
+        self
+    }
+
+    fn post(mut self, p: PlaceId) -> Self {
+        self.post.push((p, 1));
+        self
+    }
+
+    fn read(mut self, p: PlaceId) -> Self {
+        self.read.push((p, 1));
+        self
+    }
+
+    fn inhibit(mut self, places: impl IntoIterator<Item = PlaceId>) -> Self {
+        for p in places {
+            if !self.inhibit.iter().any(|&(q, _)| q == p) {
+                self.inhibit.push((p, 1));
+            }
+        }
+        self
+    }
+}
+
+struct Builder<'a> {
+    c: &'a Component,
+    b: &'a Behaviour,
+    net: PetriNet,
+}
+
+/// The identifier of a position, unique within its service.
+fn position_name(c: &Component, p: Position) -> String {
+    let name = |k: CodelId| c.codels[k].name.name.clone();
+    match p {
+        Position::Idle => "idle".to_owned(),
+        Position::Ready {
+            codel,
+            on_inter: None,
+        } => format!("ready.{}", name(codel)),
+        Position::Ready {
+            codel,
+            on_inter: Some(i),
+        } => {
+            format!("ready.{}.{}", name(codel), name(i))
+        }
+        Position::Running {
+            codel,
+            interrupted: false,
+        } => format!("run.{}", name(codel)),
+        Position::Running {
+            codel,
+            interrupted: true,
+        } => format!("runint.{}", name(codel)),
+        Position::StopReady { codel } => format!("stopready.{}", name(codel)),
+        Position::StopRunning { codel } => format!("stoprun.{}", name(codel)),
+    }
+}
+
+/// Where a service is, in words (`running goto`).
+fn position_text(c: &Component, p: Position) -> String {
+    let name = |k: CodelId| c.codels[k].name.name.as_str();
+    match p {
+        Position::Idle => "idle".to_owned(),
+        Position::Ready {
+            codel,
+            on_inter: None,
+        } => format!("at {} (ready)", name(codel)),
+        Position::Ready {
+            codel,
+            on_inter: Some(i),
+        } => {
+            format!("at {} (ready, on-inter: {})", name(codel), name(i))
+        }
+        Position::Running {
+            codel,
+            interrupted: false,
+        } => format!("running {}", name(codel)),
+        Position::Running {
+            codel,
+            interrupted: true,
+        } => {
+            format!("running {} (interrupted)", name(codel))
+        }
+        Position::StopReady { codel } => format!("stopping at {} (ready)", name(codel)),
+        Position::StopRunning { codel } => format!("stopping, running {}", name(codel)),
+    }
+}
+
+impl<'a> Builder<'a> {
+    fn name(&self, s: ServiceId) -> &'a str {
+        &self.c.services[s].name.name
+    }
+
+    fn span(&self, s: ServiceId) -> Span {
+        self.c.services[s].name.span
+    }
+
+    fn machine(&self, s: ServiceId) -> &'a ServiceMachine {
+        self.b.machine(s)
+    }
+
+    fn sp(&self, s: ServiceId) -> &ServicePlaces {
+        &self.net.services[s.index()]
+    }
+
+    fn pos(&self, s: ServiceId, p: PosId) -> PlaceId {
+        self.sp(s).positions[usize::from(p)]
+    }
+
+    fn idle(&self, s: ServiceId) -> PlaceId {
+        self.pos(s, IDLE)
+    }
+
+    fn add_place(&mut self, name: String, label: String, span: Span, kind: PlaceKind) -> PlaceId {
+        let id = PlaceId::new(self.net.places.len());
+        self.net.places.push(Place {
+            name,
+            label,
+            span,
+            kind,
+        });
+        self.net.initial.push(0);
+        id
+    }
+
+    fn add(&mut self, t: Transition) {
+        self.net.transitions.push(t);
+    }
+
+    fn mark(&mut self, p: PlaceId) {
+        if let Some(n) = self.net.initial.get_mut(p.index()) {
+            *n += 1;
+        }
+    }
+}
+
+/// The distinct `stops` targets of `s`, in order, with the span of each.
+fn stop_targets(c: &Component, s: ServiceId) -> Vec<(ServiceId, Span)> {
+    let mut out: Vec<(ServiceId, Span)> = Vec::new();
+    for r in &c.services[s].stops {
+        if !out.iter().any(|&(t, _)| t == r.id) {
+            out.push((r.id, r.span));
+        }
+    }
+    out
+}
+
+/// The services `T != s` that list `s` in `rule(T)`.
+fn others(
+    c: &Component,
+    s: ServiceId,
+    rule: fn(&Service) -> &Vec<Ref<ServiceId>>,
+) -> Vec<ServiceId> {
+    c.services
+        .iter()
+        .filter(|&(t, ts)| t != s && rule(ts).iter().any(|r| r.id == s))
+        .map(|(t, _)| t)
+        .collect()
+}
