@@ -2,7 +2,7 @@
 //! `tests/fixtures/genom3/semantics/` has the verdict GenoM3's engine gives
 //! it, which differs from the verdict of the LANGUAGE.md semantics run on
 //! the same lowered model (the "naive" reading). Every trace is replayed by
-//! the independent replay (`genom_checker::replay::genom3`), and the
+//! the independent replay (`genom_oracles::replay::genom3`), and the
 //! verdicts do not change with more instances of each activity.
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
@@ -59,7 +59,7 @@ fn assert_traces_replay(r: &CheckResult) {
         if t.steps.is_empty() {
             continue;
         }
-        genom_checker::replay::genom3::replay_genom3(c, t)
+        genom_oracles::replay::genom3::replay_genom3(c, t)
             .unwrap_or_else(|e| panic!("{}: {e}\n{t:#?}", d.message));
         if matches!(d.code, Code::Livelock | Code::UnpausedLoop) {
             assert!(t.loop_start.is_some());

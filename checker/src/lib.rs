@@ -10,7 +10,7 @@ pub mod testing;
 mod verify;
 mod verify_genom3;
 
-pub use genom_engine::{engine, genom3, replay, timed, zones};
+pub use genom_engine::{engine, genom3, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};
 pub use verify::{CheckOptions, DEFAULT_MAX_INSTANCES, Engine, Verdicts, verify};

@@ -12,7 +12,5 @@ mod petri_cross_check;
 mod petri_cross_check_generator;
 mod spin_diff;
 mod spin_diff_genom3;
-#[path = "../ta_sim/mod.rs"]
-mod ta_sim;
 mod tchecker_diff;
 mod tchecker_diff_genom3;

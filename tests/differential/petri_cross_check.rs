@@ -553,7 +553,7 @@ fn repeated_stops_entries_agree() {
 /// two codels; the new instance starts once `stop` has run.
 #[test]
 fn pilot_worked_example() {
-    use genom_checker::engine::petri_check::{fire, fireable, is_stable};
+    use genom_oracles::petri::{fire, fireable, is_stable};
     let c = load(&root().join("specs/pilot.gen")).expect("pilot checks clean");
     let net = PetriNet::build(&c, &Behaviour::new(&c));
     let id = |name: &str| {

@@ -25,10 +25,10 @@
 //! models) and `TCK_MEMORY_MB` are as for `tests/differential/tchecker_diff.rs`.
 //!
 //! Always run: the same comparison with a small interpreter of the network
-//! (`tests/ta_sim`: explicit locations and variables, clocks as zones) on
-//! the fixtures, and on the small corpus components when the corpus is on
-//! the machine, which also checks that no variable leaves its range and
-//! that the urgency predicate matches the urgent edges.
+//! (`genom_oracles::ta_sim`: explicit locations and variables, clocks as
+//! zones) on the fixtures, and on the small corpus components when the
+//! corpus is on the machine, which also checks that no variable leaves its
+//! range and that the urgency predicate matches the urgent edges.
 
 #![allow(
     clippy::expect_used,
@@ -38,7 +38,7 @@
 )] // test harness
 
 use crate::common;
-use crate::ta_sim;
+use genom_oracles::ta_sim;
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;

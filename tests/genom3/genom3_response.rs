@@ -4,7 +4,7 @@
 //! by hand; the check must find exactly them, and `--deadline` must turn a
 //! worst case one nanosecond later than the deadline into a
 //! `deadline-miss` whose trace the independent replay
-//! (`genom_checker::replay::genom3_timed`) accepts and shows the instance
+//! (`genom_oracles::replay::genom3_timed`) accepts and shows the instance
 //! still alive past the deadline.
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
@@ -12,10 +12,10 @@
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
-use genom_checker::replay::genom3_timed::replay_genom3_alive;
 use genom_model::Code;
 use genom_model::response::Bound;
 use genom_model::trace::Event;
+use genom_oracles::replay::genom3_timed::replay_genom3_alive;
 
 const DIR: &str = "tests/fixtures/genom3/response";
 const MS: u64 = 1_000_000;

@@ -4,7 +4,7 @@
 //! GenoM3 engine differ from those of the LANGUAGE.md timed engine run on
 //! the same lowered model (the "naive" reading), a paired fixture shows
 //! what removes the overrun, and every trace is replayed by the independent
-//! replay (`genom_checker::replay::genom3_timed`).
+//! replay (`genom_oracles::replay::genom3_timed`).
 
 #![allow(clippy::expect_used, clippy::unwrap_used)] // test support code outside #[test] functions
 
@@ -14,10 +14,10 @@ use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_checker::engine::Limits;
-use genom_checker::replay::genom3_timed::replay_genom3_timed;
 use genom_checker::timed::analyse_timed;
 use genom_model::trace::Event;
 use genom_model::{Code, Severity};
+use genom_oracles::replay::genom3_timed::replay_genom3_timed;
 
 const DIR: &str = "tests/fixtures/genom3/timing";
 

@@ -11,12 +11,12 @@ use std::path::Path;
 
 use genom_check::{CheckOptions, check_file, check_source};
 use genom_checker::engine::explore::{Limits, Model, explore};
-use genom_checker::engine::petri_check::{StableGraph, is_stable, stable_graph};
 use genom_checker::engine::system::{Config, System};
 use genom_model::Severity;
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};
 use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceKind};
+use genom_oracles::petri::{StableGraph, is_stable, stable_graph};
 use genom_parser::{FsLoader, MemoryLoader};
 use genom_translate::petri::BuildPetriNet;
 
@@ -154,10 +154,7 @@ fn explorer_side(c: &Component, b: &Behaviour, limit: usize) -> Option<Explored>
 
 /// Checks the structural invariants of every stable marking of the net.
 fn check_net(name: &str, net: &PetriNet, c: &Component, g: &StableGraph) {
-    assert!(
-        g.stopped.is_none(),
-        "{name}: the net's exploration stopped early"
-    );
+    assert!(!g.stopped, "{name}: the net's exploration stopped early");
     assert!(
         !g.urgent_cycle,
         "{name}: an urgent cascade can fire forever"
@@ -242,13 +239,7 @@ pub fn cross_check(name: &str, c: &Component, limit: usize) -> Option<Sizes> {
     let b = Behaviour::new(c);
     let (init, configs, edges) = explorer_side(c, &b, limit)?;
     let net = PetriNet::build(c, &b);
-    let g = stable_graph(
-        &net,
-        Limits {
-            max_states: limit * 40,
-            ..Limits::default()
-        },
-    );
+    let g = stable_graph(&net, limit * 40);
     check_net(name, &net, c, &g);
     let project = |i: usize| project_marking(&net, c, &g.markings[i]);
     let stable: BTreeSet<Cfg> = (0..g.markings.len()).map(project).collect();

@@ -16,11 +16,11 @@ use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
 use genom_checker::engine::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
-use genom_checker::replay::{Claim, replay_claim};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
 use genom_model::stats::Method as Decider;
 use genom_model::trace::Trace;
+use genom_oracles::replay::{Claim, replay_claim};
 use genom_parser::FsLoader;
 
 /// What an analysis establishes, by name.

@@ -10,7 +10,5 @@ mod compose;
 mod regressions;
 mod response_times;
 mod static_checks;
-#[path = "../timed_trace/mod.rs"]
-mod timed_trace;
 mod timing;
 mod verdicts;

@@ -10,17 +10,16 @@
 #![allow(clippy::expect_used, clippy::unwrap_used)]
 
 use crate::common;
-use crate::timed_trace;
 
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use genom_check::{CheckOptions, CheckResult};
-use genom_checker::replay::replay;
 use genom_model::{Bound, Code, Diagnostic, Trace};
+use genom_oracles::replay::replay;
+use genom_oracles::timed_trace::{TimedClaim, check_timed};
 use genom_parser::FsLoader;
 use serde_json::Value;
-use timed_trace::{TimedClaim, check_timed};
 
 const MS: u64 = 1_000_000;
 

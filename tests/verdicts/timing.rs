@@ -17,18 +17,17 @@
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
 use crate::common;
-use crate::timed_trace;
 
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use genom_check::{CheckOptions, CheckResult};
-use genom_checker::replay::{Claim, replay, replay_claim};
 use genom_model::component::{Component, ServiceId};
 use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Event, Severity, Trace, TraceStep};
+use genom_oracles::replay::{Claim, replay, replay_claim};
+use genom_oracles::timed_trace::{TimedClaim, check_timed, loops_without_bound};
 use serde_json::Value;
-use timed_trace::{TimedClaim, check_timed, loops_without_bound};
 
 /// The timing codes.
 const TIMING: &[Code] = &[

@@ -17,9 +17,9 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use genom_check::{CheckOptions, CheckResult};
 use genom_checker::Engine;
-use genom_checker::replay::{Claim, ReplayError, replay, replay_claim};
 use genom_model::component::{Component, Outcome};
 use genom_model::{Code, Diagnostic, Event, Trace, TraceStep};
+use genom_oracles::replay::{Claim, ReplayError, replay, replay_claim};
 use genom_parser::FsLoader;
 use serde_json::Value;
 

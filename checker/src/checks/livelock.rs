@@ -208,7 +208,7 @@ mod tests {
         let out = super::check(&m, &analysis);
         for d in &out {
             let t = d.trace.as_ref().unwrap();
-            crate::replay::genom3::replay_genom3(&c, t)
+            genom_oracles::replay::genom3::replay_genom3(&c, t)
                 .unwrap_or_else(|e| panic!("{}: {e}\n{t:#?}", d.message));
             assert!(t.loop_start.is_some(), "{}", d.message);
             assert_eq!(t.steps.last().map(|s| s.event), Some(Event::Violation));

@@ -23,7 +23,6 @@ pub mod explore;
 pub mod method;
 pub mod parts;
 mod pending;
-pub mod petri_check;
 pub mod reduction;
 pub mod store;
 pub mod system;

@@ -136,7 +136,8 @@ fn a_codel_exception_names_the_exceptions_it_stands_for() {
     let e = Engine::new(Machine::new(&c, 1).unwrap());
     let texts = |p: &[G3Action]| -> Vec<String> {
         let t = super::trace::render(&e, p);
-        crate::replay::genom3::replay_genom3(&c, &t).unwrap_or_else(|err| panic!("{err}\n{t:#?}"));
+        genom_oracles::replay::genom3::replay_genom3(&c, &t)
+            .unwrap_or_else(|err| panic!("{err}\n{t:#?}"));
         t.steps.iter().map(|s| s.text.clone()).collect()
     };
     let exception_of = |name: &str| {

@@ -1,7 +1,8 @@
 //! Traces of the GenoM3 engine: each transition as a [`TraceStep`] that
 //! names the service, the task, the state whose codel ran and the yield it
 //! took, so that a trace reads as GenoM3 users think of their component
-//! and can be replayed independently (`crate::replay::genom3`).
+//! and can be replayed independently (`genom_oracles::replay::genom3`, a
+//! test oracle).
 //!
 //! Step vocabulary (the replay reads `event`, `service`, `thread`, `codel`
 //! and `outcome`):

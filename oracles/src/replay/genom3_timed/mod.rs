@@ -3,11 +3,11 @@
 //! (`docs/genom3-semantics.md` sections 1, 2, 7 and 8).
 //!
 //! It shares no code with the timed engine it checks
-//! (`crate::genom3::timed`, `crate::genom3::steps`): it reads the component
-//! as [`Machine`] reads it (tasks, periods, delays, codel state machines
-//! with their yields, `pause::`, `async`, WCETs and data accesses, control
-//! codels) and the resolved [`Component`] (`interrupts`), and re-applies
-//! the rules on a plain state: per instance its status, state and whether
+//! (`genom_engine::genom3::timed`) and depends on the model alone: it
+//! reads the component itself ([`reading`]: tasks, periods, delays, codel
+//! state machines with their yields, `pause::`, `async`, WCETs and data
+//! accesses, control codels; the resolved [`Component`] for `interrupts`),
+//! and re-applies the rules on a plain state: per instance its status, state and whether
 //! it is due in its task's current sweep, paused, running or interrupted;
 //! per task its next tick and whether it sweeps again; the control
 //! thread's request; and every codel run as a time interval.
@@ -61,7 +61,7 @@ use std::collections::BTreeSet;
 use genom_model::component::{Component, ServiceId};
 use genom_model::trace::{Event, Trace};
 
-use crate::genom3::machine::{Access, Base, ControlKind, FsmState, Machine, Owner, Role, Target};
+use reading::{Access, Base, Builtin, CodelDef, Owner, Rules, Target};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Status {
@@ -147,7 +147,7 @@ struct Request {
 
 /// The replay's state.
 struct Sim<'m, 'c> {
-    m: &'m Machine<'c>,
+    m: &'m Rules<'c>,
     /// Per task: replayed (named by the trace).
     scope: Vec<bool>,
     phase: Phase,
@@ -180,7 +180,7 @@ pub fn replay_genom3_timed(
     max_instances: usize,
     trace: &Trace,
 ) -> Result<(), String> {
-    let m = Machine::new(c, max_instances).ok_or("not a GenoM3 component")?;
+    let m = Rules::new(c, max_instances).ok_or("not a GenoM3 component")?;
     let n = trace.steps.len();
     let tick = n.checked_sub(2).and_then(|k| trace.steps.get(k));
     if n >= 3
@@ -204,7 +204,7 @@ pub fn replay_genom3_alive(
     trace: &Trace,
     service: &str,
 ) -> Result<u64, String> {
-    let m = Machine::new(c, max_instances).ok_or("not a GenoM3 component")?;
+    let m = Rules::new(c, max_instances).ok_or("not a GenoM3 component")?;
     let a = (0..m.activities.len())
         .find(|&a| m.activity_name(a) == service)
         .ok_or_else(|| format!("no activity `{service}`"))?;
@@ -222,7 +222,7 @@ pub fn replay_genom3_alive(
 type Ended = (u64, Vec<bool>, Vec<Option<u64>>);
 
 /// Replays `trace` (`overrun`: its violation is the tick before it).
-fn replay(m: &Machine<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> {
+fn replay(m: &Rules<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> {
     let steps = &trace.steps;
     let n = steps.len();
     if steps.first().map(|s| s.event) != Some(Event::ComponentStart) {
@@ -269,7 +269,7 @@ fn replay(m: &Machine<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String
 }
 
 impl<'m, 'c> Sim<'m, 'c> {
-    fn new(m: &'m Machine<'c>, scope: Vec<bool>) -> Self {
+    fn new(m: &'m Rules<'c>, scope: Vec<bool>) -> Self {
         let mut insts = Vec::new();
         for (t, task) in m.tasks.iter().enumerate() {
             if let Some(s) = task
@@ -307,13 +307,10 @@ impl<'m, 'c> Sim<'m, 'c> {
     }
 
     fn task_of(&self, o: Owner) -> usize {
-        match o {
-            Owner::Activity(a) => self.m.activities[a].task,
-            Owner::Task(t) => t,
-        }
+        self.m.task_of(o)
     }
 
-    fn fsm_state(&self, o: Owner, s: u8) -> &'m FsmState {
+    fn fsm_state(&self, o: Owner, s: u8) -> &'m CodelDef {
         &self.m.fsm(o).states[usize::from(s)]
     }
 
@@ -336,26 +333,16 @@ impl<'m, 'c> Sim<'m, 'c> {
     }
 
     fn activity_of(&self, sid: ServiceId) -> Option<usize> {
-        match self.m.role.get(&sid) {
-            Some(Role::Activity(a)) => Some(*a),
-            _ => None,
-        }
+        self.m.activity_of(sid)
     }
 
     /// The activities service `sid` interrupts (all for `kill`).
     fn targets(&self, sid: ServiceId) -> Vec<usize> {
-        let kill = self.kind(sid) == Some(ControlKind::Kill);
+        let kill = self.m.builtin(sid) == Some(Builtin::Kill);
         let stops = &self.m.c.services[sid].stops;
         (0..self.m.activities.len())
             .filter(|&a| kill || stops.iter().any(|r| r.id == self.m.activities[a].service))
             .collect()
-    }
-
-    fn kind(&self, sid: ServiceId) -> Option<ControlKind> {
-        match self.m.role.get(&sid) {
-            Some(Role::Control(k)) => Some(self.m.controls[*k].kind),
-            _ => None,
-        }
     }
 
     /// The running instance of task `t`.
@@ -638,7 +625,7 @@ enum Yield {
 }
 
 /// Outcome `text` of `def`'s codel in `fsm`.
-fn parse_yield(m: &Machine<'_>, o: Owner, def: &FsmState, text: &str) -> Result<Yield, String> {
+fn parse_yield(m: &Rules<'_>, o: Owner, def: &CodelDef, text: &str) -> Result<Yield, String> {
     if text == "exception" {
         return Ok(Yield::Exception);
     }
@@ -666,6 +653,7 @@ fn parse_yield(m: &Machine<'_>, o: Owner, def: &FsmState, text: &str) -> Result<
     ))
 }
 
+mod reading;
 mod steps;
 
 #[cfg(test)]

@@ -4,20 +4,20 @@
 //! priorities (only the enabled transitions of the highest enabled priority
 //! may fire).
 //!
-//! [`TokenGame`] is a [`Model`], so the explorer of this crate enumerates
-//! every reachable marking. [`stable_graph`] works on *stable* markings
-//! (no transition above [`PRIORITY_STEP`] enabled): from each, every
-//! step-level transition is fired and the urgent cascade that follows is
-//! run to its stable ends. Stable markings are what the component's
-//! configurations correspond to, so this graph is the one to compare with
-//! the explorer of [`super::system`].
+//! An oracle: it reads the net alone and has its own exhaustive search, a
+//! plain breadth-first search over markings bounded by a number of
+//! markings ([`reachable`]), sharing nothing with the engines' explorer.
+//! [`stable_graph`] works on *stable* markings (no transition above
+//! [`PRIORITY_STEP`] enabled): from each, every step-level transition is
+//! fired and the urgent cascade that follows is run to its stable ends.
+//! Stable markings are what the component's configurations correspond to,
+//! so this graph is the one to compare with the engine's untimed explorer
+//! (`genom_engine::engine::system`, `tests/petri_common`).
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 use genom_model::component::Idx;
 use genom_model::petri::{PRIORITY_STEP, PetriNet, TransitionId};
-
-use super::explore::{Limits, Model, Stop};
 
 /// A marking: one token count per place.
 pub type Marking = Vec<u32>;
@@ -72,10 +72,9 @@ pub fn fire(net: &PetriNet, m: &[u32], t: TransitionId) -> Option<Marking> {
     Some(next)
 }
 
-/// The token game of a net, for the generic explorer: states are markings,
-/// actions the fireable transitions. Transitions are indexed by their first
-/// input place, so only those of marked places (and those without input
-/// place) are tried.
+/// The token game of a net: markings and their fireable transitions.
+/// Transitions are indexed by their first input place, so only those of
+/// marked places (and those without input place) are tried.
 #[derive(Debug, Clone)]
 pub struct TokenGame<'n> {
     /// The net.
@@ -147,43 +146,39 @@ impl<'n> TokenGame<'n> {
     }
 }
 
-impl Model for TokenGame<'_> {
-    type State = Marking;
-    type Zone = ();
-    type Action = TransitionId;
+/// Every marking reachable from the initial one, breadth-first.
+#[derive(Debug, Clone, Default)]
+pub struct Reachable {
+    /// The markings, in the order they were found (the initial first).
+    pub markings: Vec<Marking>,
+    /// Whether the search saw them all (else it stopped at its bound).
+    pub complete: bool,
+}
 
-    fn width(&self) -> usize {
-        self.net.places.len().div_ceil(2).max(1)
+/// The markings reachable in `net` by the token game (priorities
+/// respected), at most `max_markings` of them.
+pub fn reachable(net: &PetriNet, max_markings: usize) -> Reachable {
+    let game = TokenGame::new(net);
+    let mut out = Reachable::default();
+    let mut seen: HashSet<Marking> = HashSet::new();
+    let mut queue: VecDeque<Marking> = VecDeque::new();
+    seen.insert(net.initial.clone());
+    queue.push_back(net.initial.clone());
+    while let Some(m) = queue.pop_front() {
+        if out.markings.len() >= max_markings {
+            return out;
+        }
+        for t in game.fireable(&m) {
+            if let Some(next) = fire(net, &m, t) {
+                if seen.insert(next.clone()) {
+                    queue.push_back(next);
+                }
+            }
+        }
+        out.markings.push(m);
     }
-
-    fn init_states(&self) -> Vec<Marking> {
-        vec![self.net.initial.clone()]
-    }
-
-    fn actions(&self, m: &Marking, out: &mut Vec<TransitionId>) {
-        out.extend(self.fireable(m));
-    }
-
-    fn next_state(&self, m: &Marking, t: TransitionId) -> Option<Marking> {
-        fire(self.net, m, t)
-    }
-
-    fn encode(&self, m: &Marking, out: &mut Vec<u64>) {
-        let start = out.len();
-        out.extend(m.chunks(2).map(|c| {
-            let hi = c.get(1).copied().unwrap_or(0);
-            u64::from(c[0]) | (u64::from(hi) << 32)
-        }));
-        out.resize(start + self.width(), 0);
-    }
-
-    fn zone(&self, _: &Marking) {}
-
-    fn decode(&self, words: &[u64], (): &()) -> Marking {
-        let n = self.net.places.len();
-        let halves = words.iter().flat_map(|&w| [w as u32, (w >> 32) as u32]);
-        halves.take(n).collect()
-    }
+    out.complete = true;
+    out
 }
 
 /// The stable markings of a net and the steps between them.
@@ -204,17 +199,17 @@ pub struct StableGraph {
     pub nondeterministic: usize,
     /// The largest token count seen in any place.
     pub max_tokens: u32,
-    /// Why the construction stopped early, if it did.
-    pub stopped: Option<Stop>,
+    /// The construction stopped at its bound, before the end.
+    pub stopped: bool,
 }
 
-/// Builds the [`StableGraph`] of `net`, breadth-first, within `limits`
-/// (`max_states` bounds the stable markings plus the markings where an
-/// urgent cascade branches).
-pub fn stable_graph(net: &PetriNet, limits: Limits) -> StableGraph {
+/// Builds the [`StableGraph`] of `net`, breadth-first; `max_markings`
+/// bounds the stable markings plus the markings where an urgent cascade
+/// branches.
+pub fn stable_graph(net: &PetriNet, max_markings: usize) -> StableGraph {
     let mut g = Graph {
         game: TokenGame::new(net),
-        limits,
+        max_markings,
         out: StableGraph::default(),
         index: HashMap::new(),
         cascades: HashMap::new(),
@@ -222,7 +217,7 @@ pub fn stable_graph(net: &PetriNet, limits: Limits) -> StableGraph {
     let initial = g.settle(&net.initial);
     g.out.initial = initial.iter().map(|m| g.intern(m)).collect();
     let mut next = 0;
-    while next < g.out.markings.len() && g.out.stopped.is_none() {
+    while next < g.out.markings.len() && !g.out.stopped {
         g.expand(next);
         next += 1;
     }
@@ -231,7 +226,7 @@ pub fn stable_graph(net: &PetriNet, limits: Limits) -> StableGraph {
 
 struct Graph<'n> {
     game: TokenGame<'n>,
-    limits: Limits,
+    max_markings: usize,
     out: StableGraph,
     index: HashMap<Marking, usize>,
     /// Stable ends of the cascade from each unstable marking (`None` while
@@ -255,8 +250,8 @@ impl<'n> Graph<'n> {
     }
 
     fn expand(&mut self, i: usize) {
-        if let Some(stop) = self.check_limits() {
-            self.out.stopped = Some(stop);
+        if self.out.markings.len() + self.cascades.len() >= self.max_markings {
+            self.out.stopped = true;
             return;
         }
         let m = self.out.markings[i].clone();
@@ -273,14 +268,6 @@ impl<'n> Graph<'n> {
                 self.out.edges.push((i, t, j));
             }
         }
-    }
-
-    fn check_limits(&self) -> Option<Stop> {
-        if self.out.markings.len() + self.cascades.len() >= self.limits.max_states {
-            return Some(Stop::States);
-        }
-        let late = genom_model::limits::out_of_time(self.limits.deadline);
-        late.then_some(Stop::Time)
     }
 
     /// The stable markings the urgent cascade from `m` can end in. A
@@ -353,12 +340,13 @@ mod tests {
     use genom_translate::petri::BuildPetriNet;
 
     use super::*;
-    use crate::engine::explore::explore;
     use crate::testing::{HEADER, check};
 
+    /// Bound of the tests' searches.
+    const MAX: usize = 1_000_000;
+
     fn net(body: &str) -> PetriNet {
-        let r = check(&format!("{HEADER}{body}"));
-        let c = r.component.expect("a component");
+        let c = check(&format!("{HEADER}{body}")).expect("a component");
         PetriNet::build(&c, &Behaviour::new(&c))
     }
 
@@ -370,8 +358,8 @@ mod tests {
     #[test]
     fn a_self_stopping_loop_is_safe_and_deterministic() {
         let n = net(LOOP);
-        let g = stable_graph(&n, Limits::default());
-        assert!(g.stopped.is_none());
+        let g = stable_graph(&n, MAX);
+        assert!(!g.stopped);
         assert!(!g.urgent_cycle);
         assert_eq!(g.nondeterministic, 0);
         assert_eq!(g.max_tokens, 1);
@@ -382,27 +370,35 @@ mod tests {
     #[test]
     fn the_token_game_reaches_every_stable_marking() {
         let n = net(LOOP);
-        let g = stable_graph(&n, Limits::default());
-        let mut stable = 0;
-        let e = explore(&TokenGame::new(&n), Limits::default(), |_, m| {
-            stable += usize::from(is_stable(&n, m));
-        });
-        assert!(e.stopped.is_none());
+        let g = stable_graph(&n, MAX);
+        let r = reachable(&n, MAX);
+        assert!(r.complete);
+        let stable = r.markings.iter().filter(|m| is_stable(&n, m)).count();
         assert_eq!(stable, g.markings.len());
         assert!(
-            e.store.len() > stable,
+            r.markings.len() > stable,
             "request chains pass through unstable markings"
         );
+    }
+
+    #[test]
+    fn a_bounded_search_says_it_stopped() {
+        let n = net(LOOP);
+        let r = reachable(&n, 2);
+        assert!(!r.complete);
+        assert_eq!(r.markings.len(), 2);
+        assert!(stable_graph(&n, 1).stopped);
     }
 
     #[test]
     fn the_index_finds_the_same_transitions() {
         let n = net(LOOP);
         let game = TokenGame::new(&n);
-        let e = explore(&game, Limits::default(), |_, m| {
+        let r = reachable(&n, MAX);
+        assert!(r.complete);
+        for m in &r.markings {
             assert_eq!(game.fireable(m), fireable(&n, m));
-        });
-        assert!(e.stopped.is_none());
+        }
     }
 
     #[test]

@@ -1,9 +1,9 @@
 //! An independent replay of the execution semantics (LANGUAGE.md section 3)
 //! against a verdict's trace.
 //!
-//! The explorer (`crate::engine`) and this module are two readings of the
-//! same text; this one is written from the specification alone and shares
-//! no code with the explorer nor with `genom_model::behaviour`: it reads
+//! The explorer (`genom_engine::engine`) and this module are two readings
+//! of the same text; this one is written from the specification alone and
+//! shares no code with the explorer nor with `genom_model::behaviour`: it reads
 //! only the resolved [`Component`] (services, codels and their `next`,
 //! `on-inter`, `stops`/`delays`/`forbids`, `max-time`, kinds, threads and
 //! [`Component::conflicts`]). It trusts nothing in the trace: every step is

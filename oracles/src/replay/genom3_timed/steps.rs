@@ -6,8 +6,8 @@
 use genom_model::component::ServiceId;
 use genom_model::trace::{Event, TraceStep};
 
+use super::reading::{Builtin, Owner};
 use super::{Codel, Inst, Interval, Phase, Request, Sim, Status, Yield, parse_yield};
-use crate::genom3::machine::{ControlKind, Owner};
 
 impl Sim<'_, '_> {
     /// Applies step `k`; `last`: the violating tick.
@@ -118,10 +118,7 @@ impl Sim<'_, '_> {
         let before = self.insts.len();
         let mut done = Vec::new();
         let m = self.m;
-        let task_of = |o: Owner| match o {
-            Owner::Activity(a) => m.activities[a].task,
-            Owner::Task(t) => t,
-        };
+        let task_of = |o: Owner| m.task_of(o);
         self.insts.retain_mut(|i| {
             if task_of(i.owner) != t {
                 return true;
@@ -308,23 +305,29 @@ impl Sim<'_, '_> {
         if self.ctl.is_some() {
             return Err("the control thread handles another request".into());
         }
-        let after = self.m.after.get(&sid).into_iter().flatten();
-        if after.clone().any(|x| !self.done.contains(x)) {
+        if self
+            .m
+            .ordered(sid, true)
+            .iter()
+            .any(|x| !self.done.contains(x))
+        {
             return Err(format!(
                 "`{name}` is `after` a service that never completed"
             ));
         }
-        let before = self.m.before.get(&sid).into_iter().flatten();
-        if before.clone().any(|x| self.done.contains(x)) {
+        if self
+            .m
+            .ordered(sid, false)
+            .iter()
+            .any(|x| self.done.contains(x))
+        {
             return Err(format!("`{name}` is `before` a service that completed"));
         }
         if let Some(a) = self.activity_of(sid) {
             let mine = |i: &&Inst| i.owner == Owner::Activity(a);
             // A request to an activity that interrupts itself may come
             // while its instances run (it interrupts them and waits).
-            let restart = self.m.c.services[sid].stops.iter().any(|r| r.id == sid);
-            let bound = self.m.max_instances + usize::from(restart);
-            if self.insts.iter().filter(mine).count() >= bound {
+            if self.insts.iter().filter(mine).count() >= self.m.instance_bound(a) {
                 return Err(format!("`{name}` has its most instances already"));
             }
         }
@@ -430,7 +433,7 @@ impl Sim<'_, '_> {
         }
         self.ctl = None;
         match s.outcome.as_deref() {
-            Some("exception") if def.codel.is_none() => {
+            Some("exception") if def.ids_copy => {
                 Err("an attribute's ids copy throws no exception".into())
             }
             Some("exception") => Ok(()),
@@ -453,7 +456,7 @@ impl Sim<'_, '_> {
     fn accept(&mut self, s: &TraceStep) -> Result<(), String> {
         let sid = self.service_named(s.service.as_deref())?;
         self.admissible(sid)?;
-        if self.kind(sid) == Some(ControlKind::Abort) {
+        if self.m.builtin(sid) == Some(Builtin::Abort) {
             return Err("`abort_activity` is an `interrupt` step".into());
         }
         let pending = self.effect(sid);
@@ -488,7 +491,7 @@ impl Sim<'_, '_> {
                 for x in self.targets(sid) {
                     self.flag(x, false);
                 }
-                if self.kind(sid) == Some(ControlKind::Kill) {
+                if self.m.builtin(sid) == Some(Builtin::Kill) {
                     self.phase = Phase::Drain;
                 }
                 let ended = self.insts.len() < before;
@@ -500,12 +503,8 @@ impl Sim<'_, '_> {
 
     /// `abort_activity` on one instance (`codel`: its state if started).
     fn abort(&mut self, s: &TraceStep) -> Result<(), String> {
-        let k = self
-            .m
-            .controls
-            .iter()
-            .find(|k| k.kind == ControlKind::Abort);
-        let k = k.ok_or("there is no `abort_activity`")?.service;
+        let k = self.m.builtin_service(Builtin::Abort);
+        let k = k.ok_or("there is no `abort_activity`")?;
         self.admissible(k)?;
         let sid = self.service_named(s.service.as_deref())?;
         let a = self.activity_of(sid).ok_or("that service is no activity")?;

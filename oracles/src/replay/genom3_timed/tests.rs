@@ -9,10 +9,11 @@ use std::path::{Path, PathBuf};
 use genom_model::component::Component;
 use genom_model::trace::{Event, Trace, TraceStep};
 
+use genom_engine::engine::explore::Limits;
+use genom_engine::genom3::machine::Machine;
+use genom_engine::genom3::timed::analysis::analyse_timing;
+
 use super::replay_genom3_timed;
-use crate::engine::explore::Limits;
-use crate::genom3::machine::Machine;
-use crate::genom3::timed::analysis::analyse_timing;
 use crate::testing::load_genom3_wcet;
 
 const MS: u64 = 1_000_000;
@@ -20,7 +21,7 @@ const MS: u64 = 1_000_000;
 fn fixture(name: &str) -> Component {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/fixtures/genom3/timing/"
+        "/../tests/fixtures/genom3/timing/"
     );
     let path = PathBuf::from(dir).join(name);
     let text = std::fs::read_to_string(path.with_extension("gen")).unwrap();
@@ -42,7 +43,7 @@ fn overruns(c: &Component, n: usize) -> Vec<(String, Trace)> {
 fn fixture_names() -> Vec<String> {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/fixtures/genom3/timing/"
+        "/../tests/fixtures/genom3/timing/"
     );
     let mut out: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
@@ -103,7 +104,7 @@ fn every_fixture_overrun_replays() {
 fn demo() -> Component {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../parser/genom3/tests/fixtures/valid/"
+        "/../parser/genom3/tests/fixtures/valid/"
     );
     let path = Path::new(dir).join("demo.gen");
     let text = std::fs::read_to_string(&path).unwrap();

@@ -88,8 +88,8 @@ impl Zone {
         }
     }
 
-    /// Intersects with `x op c` (network clock `x`).
-    pub fn constrain(&mut self, x: usize, op: CmpOp, c: i64) {
+    /// Intersects with `x op c` (network clock `x`); `!=` is no zone.
+    pub fn constrain(&mut self, x: usize, op: CmpOp, c: i64) -> Result<(), String> {
         let x = x + 1;
         let mut tighten = |i: usize, j: usize, b: i64| {
             if b < self.at(i, j) {
@@ -105,9 +105,10 @@ impl Zone {
                 tighten(x, 0, le(c));
                 tighten(0, x, le(-c));
             }
-            CmpOp::Ne => panic!("`!=` on a clock is not a zone"),
+            CmpOp::Ne => return Err("`!=` on a clock is not a zone".into()),
         }
         self.close();
+        Ok(())
     }
 
     /// Sets network clock `x` to 0.
@@ -163,22 +164,22 @@ mod tests {
     fn a_zone_delays_constrains_and_resets() {
         let mut z = Zone::zero(2);
         z.up();
-        z.constrain(0, CmpOp::Le, 5);
-        z.constrain(0, CmpOp::Ge, 5);
+        z.constrain(0, CmpOp::Le, 5).unwrap();
+        z.constrain(0, CmpOp::Ge, 5).unwrap();
         assert!(!z.is_empty());
         // Both clocks moved together: the second is 5 too.
         let mut w = z.clone();
-        w.constrain(1, CmpOp::Lt, 5);
+        w.constrain(1, CmpOp::Lt, 5).unwrap();
         assert!(w.is_empty());
         z.reset(0);
         z.up();
-        z.constrain(1, CmpOp::Le, 7);
+        z.constrain(1, CmpOp::Le, 7).unwrap();
         let mut y = z.clone();
-        y.constrain(0, CmpOp::Gt, 2);
+        y.constrain(0, CmpOp::Gt, 2).unwrap();
         assert!(y.is_empty());
         let mut small = Zone::zero(2);
         small.up();
-        small.constrain(0, CmpOp::Le, 1);
+        small.constrain(0, CmpOp::Le, 1).unwrap();
         let mut big = Zone::zero(2);
         big.up();
         assert!(small.within(&big) && !big.within(&small));

@@ -7,9 +7,12 @@
 //! units (a 10 us `validate` against 20 ms periods) cost nothing. It checks
 //! on the way what `tck-reach` and UPPAAL would refuse: a variable outside
 //! its range, and an [`Network::urgency`] predicate that disagrees with
-//! the urgent edges.
-
-#![allow(dead_code, clippy::expect_used, clippy::unwrap_used)]
+//! the urgent edges. What the GenoM3 networks do not use (arrays, `!=`
+//! on a clock, a loop that does not end) is a problem too, and stops the
+//! exploration.
+//!
+//! An oracle (it reads the network alone): `tests/differential` compares
+//! the labels it reaches with those of the engines and of `tck-reach`.
 
 mod zone;
 
@@ -57,82 +60,99 @@ struct Env<'a> {
 }
 
 impl Env<'_> {
-    fn eval(&self, e: &Expr) -> i64 {
-        match e {
+    fn eval(&self, e: &Expr) -> Result<i64, String> {
+        Ok(match e {
             Expr::Const(c) => *c,
             Expr::Var(v) => self.vars[v.0 as usize],
-            Expr::Elem(..) => panic!("arrays are not used by the GenoM3 networks"),
+            Expr::Elem(..) => return Err("arrays are not used by the GenoM3 networks".into()),
             Expr::Local(n) => self
                 .locals
                 .iter()
                 .rev()
                 .find(|(m, _)| m == n)
                 .map(|(_, v)| *v)
-                .expect("a declared local"),
-            Expr::Add(items) => items.iter().map(|x| self.eval(x)).sum(),
-            Expr::Sub(a, b) => self.eval(a) - self.eval(b),
-            Expr::Cmp(op, a, b) => i64::from(cmp(*op, self.eval(a), self.eval(b))),
-            Expr::Not(x) => i64::from(self.eval(x) == 0),
-            Expr::And(items) => i64::from(items.iter().all(|x| self.eval(x) != 0)),
-            Expr::Or(items) => i64::from(items.iter().any(|x| self.eval(x) != 0)),
+                .ok_or_else(|| format!("local `{n}` read before its declaration"))?,
+            Expr::Add(items) => items
+                .iter()
+                .map(|x| self.eval(x))
+                .sum::<Result<i64, String>>()?,
+            Expr::Sub(a, b) => self.eval(a)? - self.eval(b)?,
+            Expr::Cmp(op, a, b) => i64::from(cmp(*op, self.eval(a)?, self.eval(b)?)),
+            Expr::Not(x) => i64::from(self.eval(x)? == 0),
+            Expr::And(items) => {
+                let mut all = true;
+                for x in items {
+                    all &= self.eval(x)? != 0;
+                }
+                i64::from(all)
+            }
+            Expr::Or(items) => {
+                let mut any = false;
+                for x in items {
+                    any |= self.eval(x)? != 0;
+                }
+                i64::from(any)
+            }
             Expr::Ite(c, a, b) => {
-                if self.eval(c) != 0 {
-                    self.eval(a)
+                if self.eval(c)? != 0 {
+                    self.eval(a)?
                 } else {
-                    self.eval(b)
+                    self.eval(b)?
                 }
             }
-        }
+        })
     }
 
-    fn run(&mut self, list: &[Stmt], resets: &mut Vec<usize>) {
+    fn run(&mut self, list: &[Stmt], resets: &mut Vec<usize>) -> Result<(), String> {
         for s in list {
             match s {
                 Stmt::Local(n, e) => {
-                    let v = self.eval(e);
+                    let v = self.eval(e)?;
                     self.locals.push((n.clone(), v));
                 }
                 Stmt::Assign(lv, e) => {
-                    let v = self.eval(e);
+                    let v = self.eval(e)?;
                     match lv {
                         LValue::Var(x) => self.vars[x.0 as usize] = v,
-                        LValue::Elem(..) => panic!("arrays are not used"),
+                        LValue::Elem(..) => return Err("arrays are not used".into()),
                         LValue::Local(n) => {
-                            let slot = self
-                                .locals
-                                .iter_mut()
-                                .rev()
-                                .find(|(m, _)| m == n)
-                                .expect("a declared local");
+                            let slot = self.locals.iter_mut().rev().find(|(m, _)| m == n);
+                            let slot = slot.ok_or_else(|| {
+                                format!("local `{n}` assigned before its declaration")
+                            })?;
                             slot.1 = v;
                         }
                     }
                 }
                 Stmt::If(c, a, b) => {
-                    if self.eval(c) != 0 {
-                        self.run(a, resets);
+                    if self.eval(c)? != 0 {
+                        self.run(a, resets)?;
                     } else {
-                        self.run(b, resets);
+                        self.run(b, resets)?;
                     }
                 }
                 Stmt::While(c, body) => {
                     let mut n = 0;
-                    while self.eval(c) != 0 {
-                        self.run(body, resets);
+                    while self.eval(c)? != 0 {
+                        self.run(body, resets)?;
                         n += 1;
-                        assert!(n < 10_000, "a while loop that does not end");
+                        if n >= 10_000 {
+                            return Err("a while loop that does not end".into());
+                        }
                     }
                 }
                 Stmt::Reset(c) => resets.push(c.0 as usize),
             }
         }
+        Ok(())
     }
 }
 
-fn constrain(z: &mut Zone, cs: &[ClockConstraint]) {
+fn constrain(z: &mut Zone, cs: &[ClockConstraint]) -> Result<(), String> {
     for c in cs {
-        z.constrain(c.clock.0 as usize, c.op, c.bound);
+        z.constrain(c.clock.0 as usize, c.op, c.bound)?;
     }
+    Ok(())
 }
 
 struct Sim<'a> {
@@ -142,20 +162,21 @@ struct Sim<'a> {
 }
 
 impl Sim<'_> {
-    fn int_guard(&self, e: &Edge, vars: &[i64]) -> bool {
+    fn int_guard(&self, e: &Edge, vars: &[i64]) -> Result<bool, String> {
         let mut vars = vars.to_vec();
         let env = Env {
             vars: &mut vars,
             locals: Vec::new(),
         };
-        env.eval(&e.guard) != 0
+        Ok(env.eval(&e.guard)? != 0)
     }
 
     /// Intersects `z` with the invariants of `locs`.
-    fn invariants(&self, locs: &[u32], z: &mut Zone) {
+    fn invariants(&self, locs: &[u32], z: &mut Zone) -> Result<(), String> {
         for (p, &l) in self.net.processes.iter().zip(locs) {
-            constrain(z, &p.locations[l as usize].invariant);
+            constrain(z, &p.locations[l as usize].invariant)?;
         }
+        Ok(())
     }
 
     fn committed(&self, locs: &[u32]) -> bool {
@@ -169,7 +190,7 @@ impl Sim<'_> {
     /// The edges whose integer guards hold in locations `locs` with
     /// variables `vars` (only committed processes' in a committed state),
     /// with their processes.
-    fn edges<'n>(&'n self, locs: &[u32], vars: &[i64]) -> Vec<(usize, &'n Edge)> {
+    fn edges<'n>(&'n self, locs: &[u32], vars: &[i64]) -> Result<Vec<(usize, &'n Edge)>, String> {
         let committed = self.committed(locs);
         let mut out = Vec::new();
         for (k, p) in self.net.processes.iter().enumerate() {
@@ -178,36 +199,45 @@ impl Sim<'_> {
                 continue;
             }
             for e in p.edges.iter().filter(|e| e.from.0 == here) {
-                if self.int_guard(e, vars) {
+                if self.int_guard(e, vars)? {
                     out.push((k, e));
                 }
             }
         }
-        out
+        Ok(out)
     }
 
     /// Whether time may pass in locations `locs` with variables `vars`.
-    fn may_delay(&self, locs: &[u32], vars: &[i64]) -> bool {
-        !self.committed(locs) && !self.edges(locs, vars).iter().any(|(_, e)| e.urgent)
+    fn may_delay(&self, locs: &[u32], vars: &[i64]) -> Result<bool, String> {
+        let urgent = self.edges(locs, vars)?.iter().any(|(_, e)| e.urgent);
+        Ok(!self.committed(locs) && !urgent)
     }
 
     /// Time passes (when it may), under the invariants; extrapolated.
-    fn delay(&self, s: &mut St) {
-        if self.may_delay(&s.locs, &s.vars) {
+    fn delay(&self, s: &mut St) -> Result<(), String> {
+        if self.may_delay(&s.locs, &s.vars)? {
             s.zone.up();
         }
-        self.invariants(&s.locs, &mut s.zone);
+        self.invariants(&s.locs, &mut s.zone)?;
         if !s.zone.is_empty() {
             s.zone.extrapolate(&self.max);
         }
+        Ok(())
     }
 
-    fn successors(&self, s: &St, out: &mut Vec<St>, problems: &mut Vec<String>) {
-        let edges = self.edges(&s.locs, &s.vars);
+    /// The successors of `s` into `out`; the problems of range and urgency
+    /// into `problems`; Err for what the interpreter cannot run.
+    fn successors(
+        &self,
+        s: &St,
+        out: &mut Vec<St>,
+        problems: &mut Vec<String>,
+    ) -> Result<(), String> {
+        let edges = self.edges(&s.locs, &s.vars)?;
         let urgent = edges.iter().any(|(_, e)| e.urgent);
         for (k, e) in edges {
             let mut zone = s.zone.clone();
-            constrain(&mut zone, &e.clock_guard);
+            constrain(&mut zone, &e.clock_guard)?;
             if zone.is_empty() {
                 continue;
             }
@@ -217,7 +247,7 @@ impl Sim<'_> {
                 vars: &mut n.vars,
                 locals: Vec::new(),
             };
-            env.run(&e.statements, &mut resets);
+            env.run(&e.statements, &mut resets)?;
             for c in resets {
                 zone.reset(c);
             }
@@ -230,12 +260,12 @@ impl Sim<'_> {
                     ));
                 }
             }
-            self.invariants(&n.locs, &mut zone);
+            self.invariants(&n.locs, &mut zone)?;
             if zone.is_empty() {
                 continue;
             }
             n.zone = zone;
-            self.delay(&mut n);
+            self.delay(&mut n)?;
             if !n.zone.is_empty() {
                 out.push(n);
             }
@@ -245,12 +275,13 @@ impl Sim<'_> {
             vars: &mut vars,
             locals: Vec::new(),
         };
-        let predicate = env.eval(&self.net.urgency) != 0;
+        let predicate = env.eval(&self.net.urgency)? != 0;
         if predicate != urgent && !self.committed(&s.locs) {
             problems.push(format!(
                 "urgency predicate {predicate}, urgent edges enabled {urgent}"
             ));
         }
+        Ok(())
     }
 }
 
@@ -274,33 +305,44 @@ fn max_constants(net: &Network) -> Vec<i64> {
     max
 }
 
-/// Explores the network (at most `limit` symbolic states).
+/// The initial location of every process.
+fn initial_locations(net: &Network) -> Result<Vec<u32>, String> {
+    net.processes
+        .iter()
+        .map(|p| {
+            let i = p.locations.iter().position(|l| l.initial);
+            let i = i.ok_or_else(|| format!("process `{}` has no initial location", p.name))?;
+            u32::try_from(i).map_err(|e| e.to_string())
+        })
+        .collect()
+}
+
+/// Explores the network (at most `limit` symbolic states). What the
+/// interpreter cannot run ends the exploration, incomplete, with a
+/// problem saying so.
 pub fn explore(net: &Network, limit: usize) -> Reach {
+    let mut reach = Reach::default();
+    if let Err(e) = explore_into(net, limit, &mut reach) {
+        reach.complete = false;
+        reach.problems.push(e);
+    }
+    reach
+}
+
+fn explore_into(net: &Network, limit: usize, reach: &mut Reach) -> Result<(), String> {
     let sim = Sim {
         net,
         max: max_constants(net),
     };
     let mut init = St {
-        locs: net
-            .processes
-            .iter()
-            .map(|p| {
-                let i = p
-                    .locations
-                    .iter()
-                    .position(|l| l.initial)
-                    .expect("an initial location");
-                u32::try_from(i).unwrap()
-            })
-            .collect(),
+        locs: initial_locations(net)?,
         vars: net.vars.iter().map(|v| v.init).collect(),
         zone: Zone::zero(net.clocks.len()),
     };
-    sim.delay(&mut init);
-    let mut reach = Reach::default();
+    sim.delay(&mut init)?;
     if init.zone.is_empty() {
         reach.complete = true;
-        return reach;
+        return Ok(());
     }
     // Per locations and variables: the zones found (none includes another
     // found before it).
@@ -320,12 +362,12 @@ pub fn explore(net: &Network, limit: usize) -> Reach {
                 .extend(p.locations[l as usize].labels.iter().cloned());
         }
         if reach.states >= limit {
-            return reach;
+            return Ok(());
         }
         next.clear();
-        sim.successors(&s, &mut next, &mut reach.problems);
+        sim.successors(&s, &mut next, &mut reach.problems)?;
         if reach.problems.len() > 10 {
-            return reach;
+            return Ok(());
         }
         for n in next.drain(..) {
             let zones = seen.entry((n.locs.clone(), n.vars.clone())).or_default();
@@ -338,5 +380,5 @@ pub fn explore(net: &Network, limit: usize) -> Reach {
         }
     }
     reach.complete = true;
-    reach
+    Ok(())
 }

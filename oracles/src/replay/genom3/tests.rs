@@ -2,9 +2,10 @@
 
 use std::path::Path;
 
+use genom_engine::engine::explore::{Limits, Model};
+use genom_engine::genom3::{Machine, analyse_genom3, steps::Engine, trace::render};
+
 use super::*;
-use crate::engine::explore::{Limits, Model};
-use crate::genom3::{Machine, analyse_genom3, steps::Engine, trace::render};
 
 const F1A: &str = "component f1a {
   ids { long n; };
@@ -117,7 +118,7 @@ fn check(c: &Component, prefix: &str, cases: &[&str]) {
 
 /// The fixtures of the GenoM3 semantics and those above.
 fn components() -> Vec<Component> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/genom3/semantics");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/genom3/semantics");
     let files = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path());
     let mut texts: Vec<String> = files.map(|p| std::fs::read_to_string(p).unwrap()).collect();
     texts.extend([F1A, G, H, K].map(str::to_owned));
