@@ -92,13 +92,26 @@ pub struct GroupRecord {
 /// Explores the timed model of `m`, group by group ([`super::groups`]);
 /// `None` when it has too many tasks for one (see [`super::MAX_TASKS`]).
 pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis> {
+    analyse_timing_with(m, limits, true)
+}
+
+/// [`analyse_timing`], with or without the quiet-request reduction
+/// ([`TimedEngine::changes_nothing`]; without, for tests that compare).
+pub(crate) fn analyse_timing_with(
+    m: &Machine<'_>,
+    limits: Limits,
+    reduce: bool,
+) -> Option<TimingAnalysis> {
     if m.tasks.len() > super::MAX_TASKS {
         return None;
     }
     let locks = Locks::new(m, unit_ns(m));
     let mut out = TimingAnalysis::default();
     for group in groups(m, &locks) {
-        let te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
+        let mut te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
+        if !reduce {
+            te.quiet.fill(false);
+        }
         out.clocks = out.clocks.max(te.clock_count());
         let (states, complete) = explore_group(&te, limits, &mut out);
         out.records.push(GroupRecord {

@@ -217,6 +217,11 @@ pub struct TimedEngine<'a> {
     /// request does nothing but run its contended codels and another's
     /// codels look the same (then either's run is the other's).
     pub(crate) canon: Vec<u16>,
+    /// Per control service: its request does nothing but run one contended
+    /// control codel that takes no time and throws nothing. When that
+    /// codel could begin at once, the request changes nothing a task
+    /// sees, and it is not explored (see [`TimedEngine::changes_nothing`]).
+    pub(crate) quiet: Vec<bool>,
     /// The `done` bits that matter: services some `after`/`before` names
     /// (the others are cleared, so that they do not split states).
     tracked: Vec<u64>,
@@ -300,6 +305,7 @@ impl<'a> TimedEngine<'a> {
             })
             .collect();
         let canon = canonical_calls(&m, &locks, &jobs, &tracked);
+        let quiet = quiet_calls(&m, &locks, &jobs, &tracked);
         let e = Engine::part_tasks(
             m,
             group.acts.clone(),
@@ -309,6 +315,7 @@ impl<'a> TimedEngine<'a> {
         Some(TimedEngine {
             in_group: group.tasks.clone(),
             canon,
+            quiet,
             jobs,
             tracked,
             e,
@@ -644,6 +651,37 @@ fn canonical_calls(
                 .map(|key| locks.signature(key))
                 .collect();
             *first.entry(signature).or_insert(k as u16)
+        })
+        .collect()
+}
+
+/// For each control service, whether its request does nothing but run one
+/// contended control codel that takes no time and cannot throw (an
+/// attribute's ids copy, for one).
+fn quiet_calls(
+    m: &Machine<'_>,
+    locks: &locks::Locks,
+    jobs: &BTreeMap<ServiceId, Vec<usize>>,
+    tracked: &[u64],
+) -> Vec<bool> {
+    m.controls
+        .iter()
+        .map(|ctl| {
+            let sid = ctl.service;
+            let watched = tracked[sid.index() / 64] >> (sid.index() % 64) & 1 == 1;
+            let inert = ctl.kind == super::machine::ControlKind::Plain
+                && ctl.interrupts.is_empty()
+                && !watched;
+            let codels = m.control_codels.get(&sid).map_or(&[][..], Vec::as_slice);
+            let zero = |&i: &usize| {
+                let key = locks.ctl_key(sid, i);
+                key.is_some_and(|k| locks.wcet_of(k) == Some(0))
+                    && codels.get(i).is_some_and(|c| c.codel.is_none())
+            };
+            inert
+                && jobs
+                    .get(&sid)
+                    .is_some_and(|v| v.len() == 1 && v.iter().all(zero))
         })
         .collect()
 }

@@ -22,7 +22,9 @@ impl TimedEngine<'_> {
             self.e.requests(&st.g, &mut v);
             // Interchangeable calls: one stands for all.
             v.retain(|u| match *u {
-                G3Action::Call(k) => self.canon[usize::from(k)] == k,
+                G3Action::Call(k) => {
+                    self.canon[usize::from(k)] == k && !self.changes_nothing(st, usize::from(k))
+                }
                 _ => true,
             });
             out.extend(v.into_iter().map(|u| {
@@ -65,6 +67,29 @@ impl TimedEngine<'_> {
                 out.extend((0..n).map(|o| TG3Action::End(who, i.pack(), o)));
             }
         }
+    }
+
+    /// Whether a request for control service `k` changes nothing a task
+    /// sees in `st`: its one control codel takes no time, throws nothing,
+    /// and could begin at once (its locks free, no ticket waiting), so it
+    /// would run and end at this instant. A task's codel due at the same
+    /// instant and ordered between them would take a ticket and begin at
+    /// that same instant: no delay, no other order of codels than the
+    /// explored ones (docs/genom3-semantics.md 15.5, "Quiet requests"). Not applied while
+    /// response times are measured (the request's own response is read).
+    pub(crate) fn changes_nothing(&self, st: &TG3State, k: usize) -> bool {
+        if !self.quiet[k] || self.ctl_resp.is_some() || !self.resp.is_empty() {
+            return false;
+        }
+        let job = G3Action::Call(k as u16);
+        let Some(key) = self
+            .job_service(job)
+            .and_then(|s| Some((s, *self.jobs.get(&s)?.first()?)))
+            .and_then(|(s, i)| self.locks.ctl_key(s, i))
+        else {
+            return false;
+        };
+        st.queue.is_empty() && self.locks_free(st, None, key)
     }
 
     /// An aperiodic task asleep with something to start or resume.

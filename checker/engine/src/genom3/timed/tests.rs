@@ -178,3 +178,53 @@ fn two_tasks_that_waited_for_each_others_lock_do_not_block_each_other() {
         a.overruns.first().map(|o| &o.trace)
     );
 }
+
+#[test]
+fn quiet_requests_left_out_change_no_overrun() {
+    // Generated timed components with attributes and functions: the tasks
+    // that can overrun are the same with and without the quiet-request
+    // reduction, and every trace of the reduced run replays.
+    let mut quiet = 0;
+    for seed in 0..40 {
+        let mut cfg = genom_generate::Genom3Config::small(seed);
+        cfg.timed = true;
+        cfg.asyncs = false;
+        cfg.tasks = cfg.tasks.min(2);
+        cfg.activities = cfg.activities.min(2);
+        cfg.states = cfg.states.min(2);
+        cfg.attributes = cfg.attributes.max(2);
+        let g = genom_generate::generate_genom3(&cfg);
+        let c = load_genom3_wcet(&g.r#gen, g.wcet.as_deref().expect("timed"));
+        let m = Machine::new(&c, 1).expect("GenoM3");
+        let limits = Limits {
+            max_states: 200_000,
+            ..Limits::default()
+        };
+        let (Some(fast), Some(full)) = (
+            analyse_timing(&m, limits),
+            super::analysis::analyse_timing_with(&m, limits, false),
+        ) else {
+            continue;
+        };
+        if fast.stopped.is_some() || full.stopped.is_some() {
+            continue;
+        }
+        assert!(fast.states <= full.states, "seed {seed}");
+        quiet += usize::from(fast.states < full.states);
+        let tasks = |a: &TimingAnalysis| {
+            a.overruns
+                .iter()
+                .map(|o| o.task)
+                .collect::<std::collections::BTreeSet<_>>()
+        };
+        assert_eq!(tasks(&fast), tasks(&full), "seed {seed}");
+        for o in &fast.overruns {
+            genom_oracles::replay::genom3_timed::replay_genom3_timed(&c, 1, &o.trace)
+                .unwrap_or_else(|e| panic!("seed {seed}: {e}\n{:#?}", o.trace));
+        }
+    }
+    assert!(
+        quiet >= 5,
+        "the reduction applied to {quiet} components only"
+    );
+}
