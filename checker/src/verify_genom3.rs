@@ -19,7 +19,7 @@ use crate::checks::{
     unreachable_codel,
 };
 use crate::genom3::steps::Engine;
-use crate::genom3::timed::analysis::analyse_timing;
+use crate::genom3::timed::analysis::{TimingAnalysis, analyse_timing};
 use crate::genom3::timed::response::analyse_responses;
 use crate::genom3::trace::refusal;
 use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine, machine::Fsm};
@@ -99,7 +99,7 @@ pub fn verify_genom3(
                     out.push(incomplete::incomplete(
                         c,
                         stop,
-                        "schedulability of the tasks (GenoM3 timed semantics)",
+                        &unproven_timing(&m, &timing),
                     ));
                 }
                 states += timing.states;
@@ -277,4 +277,41 @@ fn statically_reachable(fsm: &Fsm) -> BTreeSet<u8> {
         }
     }
     seen
+}
+
+/// What an unfinished timed exploration leaves unproven, task by task: a
+/// task whose group was explored to the end is decided (not listed); of the
+/// others, one
+/// found overrunning has its traces (other causes may be missing), and one
+/// not found may or may not overrun.
+fn unproven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> String {
+    let decided: BTreeSet<usize> = timing
+        .records
+        .iter()
+        .filter(|g| g.complete)
+        .flat_map(|g| g.tasks.iter().copied())
+        .collect();
+    let found: BTreeSet<usize> = timing.overruns.iter().map(|o| o.task).collect();
+    let name = |t: &usize| format!("`{}`", m.tasks[*t].name);
+    let open: Vec<usize> = (0..m.tasks.len())
+        .filter(|t| !decided.contains(t))
+        .collect();
+    let (overrun, unknown): (Vec<usize>, Vec<usize>) =
+        open.into_iter().partition(|t| found.contains(t));
+    let mut parts = Vec::new();
+    if !unknown.is_empty() {
+        let names: Vec<String> = unknown.iter().map(name).collect();
+        parts.push(format!("whether task {} can overrun", names.join(", ")));
+    }
+    if !overrun.is_empty() {
+        let names: Vec<String> = overrun.iter().map(name).collect();
+        parts.push(format!(
+            "other causes of overrun of task {} (an overrun was found)",
+            names.join(", ")
+        ));
+    }
+    if parts.is_empty() {
+        return "schedulability of the tasks (GenoM3 timed semantics)".to_owned();
+    }
+    format!("{} (GenoM3 timed semantics)", parts.join("; "))
 }

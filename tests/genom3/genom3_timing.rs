@@ -324,3 +324,36 @@ fn uavatt_overruns_behind_the_log_function_and_the_trace_replays() {
         "{t:#?}"
     );
 }
+
+#[test]
+fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
+    // Stopped early: task `c`'s overrun is found (with its trace), task `a`
+    // is not; the `incomplete` help says so task by task.
+    let path = Path::new(DIR).join("f7_attribute_copy.gen");
+    let inputs = Inputs {
+        wcet_file: Some(PathBuf::from(DIR).join("f7_attribute_copy.wcet")),
+        ..Inputs::default()
+    };
+    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(150)).unwrap();
+    let help = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::Incomplete)
+        .and_then(|d| d.help.clone())
+        .expect("incomplete");
+    assert!(help.contains("whether task `a` can overrun"), "{help}");
+    assert!(
+        help.contains("other causes of overrun of task `c`"),
+        "{help}"
+    );
+    assert_eq!(overrunning(&r), ["c"]);
+    let c = r.component.as_ref().expect("a component");
+    for d in r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::ThreadOverrun)
+    {
+        let t = d.trace.as_ref().expect("a trace");
+        replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{e}\n{t:#?}"));
+    }
+}
