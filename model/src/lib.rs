@@ -8,6 +8,7 @@ pub mod component;
 pub mod diagnostic;
 pub mod dialect;
 mod duration;
+pub mod frontend;
 pub mod kinds;
 pub mod limits;
 pub mod loader;
