@@ -4,9 +4,10 @@
 //! binary does.
 
 pub mod explain;
-mod genom3;
 mod pipeline;
 mod types;
 
-pub use pipeline::{CheckOptions, check_file, check_path, check_source, check_text, detect};
+pub use pipeline::{
+    CheckOptions, FRONTENDS, check_file, check_path, check_source, check_text, detect, frontend,
+};
 pub use types::{CheckResult, InputError, Inputs, display, is_stdin};

@@ -1,16 +1,41 @@
-//! Runs the stages of a check in order (text → AST → model → verdicts): the
-//! front-end of the file's dialect lowers the text into the model, the
-//! checker checks it.
+//! Runs the stages of a check in order (text → AST → model → verdicts):
+//! the front-end of the file's language lowers the text into the model,
+//! the checker checks it. [`frontend`] is the one place the language of a
+//! file is chosen.
 
 use std::path::Path;
 use std::time::Instant;
 
+use genom_genom3::Genom3Frontend;
 use genom_model::Dialect;
-use genom_parser::{FsLoader, LoadError, Loader};
+use genom_model::frontend::{Frontend, Input, Loaded, Refused};
+use genom_parser::{FsLoader, GenFrontend, LoadError, Loader};
 
 pub use genom_checker::CheckOptions;
 
 use crate::types::{CheckResult, InputError, Inputs, STDIN_NAME, display, is_stdin};
+
+/// Every front-end, in the order [`frontend`] asks them whether they
+/// recognise a text; LANGUAGE.md, which recognises nothing of its own, is
+/// the default.
+pub static FRONTENDS: [&dyn Frontend; 2] = [&Genom3Frontend, &GenFrontend];
+
+/// The front-end of a file: the one place the language is chosen. The
+/// `dialect` asked for (`--dialect`, the configuration), else the first
+/// front-end that recognises the text's syntax, else LANGUAGE.md's.
+pub fn frontend(dialect: Option<Dialect>, text: &str) -> &'static dyn Frontend {
+    let chosen = match dialect {
+        Some(d) => FRONTENDS.iter().find(|f| f.dialect() == d),
+        None => FRONTENDS.iter().find(|f| f.recognises(text)),
+    };
+    chosen.copied().unwrap_or(&GenFrontend)
+}
+
+/// The dialect a text is written in, by its syntax: GenoM3 when it has a
+/// GenoM3-only construct, else LANGUAGE.md.
+pub fn detect(text: &str) -> Dialect {
+    frontend(None, text).dialect()
+}
 
 /// Checks the file at `path` in the dialect `inputs` says or its syntax
 /// shows. Fails only when a file cannot be read at all.
@@ -46,24 +71,28 @@ pub fn check_text(
     inputs: &Inputs,
     options: &CheckOptions,
 ) -> Result<CheckResult, InputError> {
-    let dialect = inputs.dialect.unwrap_or_else(|| detect(&text));
-    match dialect {
-        Dialect::Gen if inputs.wcet_file.is_some() => Err(InputError::WcetNeedsGenom3 {
-            path: display(path),
-        }),
-        Dialect::Gen => Ok(check_source(path, text, &FsLoader, options)),
-        Dialect::Genom3 => crate::genom3::check(path, text, inputs, options),
-    }
-}
-
-/// The dialect a text is written in, by its syntax: GenoM3 when it has a
-/// GenoM3-only construct, else LANGUAGE.md.
-pub fn detect(text: &str) -> Dialect {
-    if genom_genom3::looks_like_genom3(text) {
-        Dialect::Genom3
-    } else {
-        Dialect::Gen
-    }
+    let started = Instant::now();
+    let input = Input {
+        path,
+        loader: &FsLoader,
+        include_dirs: &inputs.include_dirs,
+        env_include_path: true,
+        wcet_file: inputs.wcet_file.as_deref(),
+        watch: options.watch(started),
+    };
+    let loaded =
+        frontend(inputs.dialect, &text)
+            .load(input, text)
+            .map_err(|refused| match refused {
+                Refused::Unreadable { path, error } => InputError::Read {
+                    path: display(&path),
+                    error,
+                },
+                Refused::NoWcetFile => InputError::WcetNeedsGenom3 {
+                    path: display(path),
+                },
+            })?;
+    Ok(genom_checker::check(loaded, options, started).into())
 }
 
 /// Checks the LANGUAGE.md file at `path`. Fails only when that file cannot
@@ -86,21 +115,13 @@ pub fn check_source(
     options: &CheckOptions,
 ) -> CheckResult {
     let started = Instant::now();
-    let front = genom_parser::lower_until(path, text, loader, options.watch(started));
-    let verdicts = genom_checker::verify(
-        front.model,
-        front.has_component,
-        front.diagnostics,
-        options,
-        started,
-    );
-    CheckResult {
-        dialect: Dialect::Gen,
-        sources: front.sources,
-        diagnostics: verdicts.diagnostics,
-        component: verdicts.component,
-        statistics: verdicts.statistics,
-        pragmas: Vec::new(),
-        response_times: verdicts.response_times,
-    }
+    let input = Input {
+        watch: options.watch(started),
+        ..Input::new(path, loader)
+    };
+    // Without a WCET file, the front-end reads whatever the text is.
+    let loaded = GenFrontend
+        .load(input, text)
+        .unwrap_or_else(|_| Loaded::default());
+    genom_checker::check(loaded, options, started).into()
 }

@@ -1,34 +1,14 @@
 //! What a check takes and gives: the inputs of a file, why it could not
-//! be read, the result, and how a path is shown. Both the pipeline and the
-//! GenoM3 check use them.
+//! be read, the result (the checker's [`genom_checker::Checked`]), and how
+//! a path is shown.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use genom_model::component::Component;
-use genom_model::{
-    Diagnostic, Dialect, Pragma, ResponseTime, SourceMap, Statistics, sort_diagnostics,
-};
+use genom_model::{Diagnostic, Dialect, Pragma, ResponseTime, SourceMap, Statistics};
 use genom_parser::LoadError;
 
-/// A path as shown to people (forward slashes).
-/// How a path given by the user is shown: `/`-separated, and `-` (standard
-/// input) as `<stdin>`.
-pub fn display(path: &Path) -> String {
-    if is_stdin(path) {
-        STDIN_NAME.to_owned()
-    } else {
-        genom_model::span::display_path(path)
-    }
-}
-
-/// The name the text read from standard input is checked under (its
-/// includes are searched from the current folder).
-pub const STDIN_NAME: &str = "<stdin>";
-
-/// Whether `path` is `-`: standard input.
-pub fn is_stdin(path: &Path) -> bool {
-    path.as_os_str() == "-"
-}
+pub use genom_model::loader::{STDIN_NAME, display, is_stdin};
 
 /// Everything a check found about one file.
 #[derive(Debug, Clone)]
@@ -85,6 +65,20 @@ pub enum InputError {
     },
 }
 
+impl From<genom_checker::Checked> for CheckResult {
+    fn from(c: genom_checker::Checked) -> Self {
+        CheckResult {
+            dialect: c.dialect,
+            sources: c.sources,
+            diagnostics: c.diagnostics,
+            component: c.component,
+            statistics: c.statistics,
+            pragmas: c.pragmas,
+            response_times: c.response_times,
+        }
+    }
+}
+
 impl CheckResult {
     /// The report of this result for rendering, under the path as given.
     pub fn report<'a>(&'a self, path: &'a str) -> genom_render::FileReport<'a> {
@@ -97,11 +91,5 @@ impl CheckResult {
             pragmas: &self.pragmas,
             response_times: &self.response_times,
         }
-    }
-
-    /// Adds diagnostics, keeping them sorted.
-    pub(crate) fn extend(&mut self, more: impl IntoIterator<Item = Diagnostic>) {
-        self.diagnostics.extend(more);
-        sort_diagnostics(&mut self.diagnostics);
     }
 }

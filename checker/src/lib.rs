@@ -1,15 +1,18 @@
 //! The genom-check checker: reads only the component model a front-end
 //! lowered, runs the static checks on it and the model-checking engines.
-//! [`verify`] runs them in order and returns every diagnostic, sorted.
+//! [`check`] takes what a front-end loaded, runs them in order, and
+//! returns every diagnostic, sorted.
 
 #[cfg(feature = "smt")]
 pub mod budget;
+mod check;
 pub mod checks;
 #[cfg(test)]
 pub mod testing;
 mod verify;
 mod verify_genom3;
 
+pub use check::{Checked, check};
 pub use genom_engine::{engine, genom3, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};

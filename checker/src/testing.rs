@@ -5,30 +5,19 @@
 use std::path::Path;
 use std::time::Instant;
 
+use genom_model::Code;
 use genom_model::component::Component;
-use genom_model::{Code, Diagnostic, SourceMap, Statistics};
-use genom_parser::{Loader, MemoryLoader};
+use genom_model::frontend::{Frontend as _, Input};
+use genom_parser::{GenFrontend, Loader, MemoryLoader};
 use genom_render::{FileReport, human};
 
-use crate::{CheckOptions, verify};
+use crate::CheckOptions;
 
-/// Everything a check found about one source text (as the product's
-/// `genom_check::CheckResult`, without the syntax trees).
-#[derive(Debug, Clone)]
-pub struct CheckResult {
-    /// The checked file and its includes.
-    pub sources: SourceMap,
-    /// All diagnostics, sorted by file and position.
-    pub diagnostics: Vec<Diagnostic>,
-    /// The resolved component, when the file parsed completely and has a
-    /// `component` item.
-    pub component: Option<Component>,
-    /// Exploration figures, when the engines ran.
-    pub statistics: Option<Statistics>,
-}
+/// Everything a check found about one source text.
+pub type CheckResult = crate::Checked;
 
 /// Checks already-loaded text as the product's `genom_check::check_source`
-/// does: the front-end lowers it, the checker checks the model.
+/// does: the LANGUAGE.md front-end lowers it, the checker checks the model.
 pub fn check_source(
     path: &Path,
     text: String,
@@ -36,20 +25,14 @@ pub fn check_source(
     options: &CheckOptions,
 ) -> CheckResult {
     let started = Instant::now();
-    let front = genom_parser::lower(path, text, loader);
-    let verdicts = verify(
-        front.model,
-        front.has_component,
-        front.diagnostics,
-        options,
-        started,
-    );
-    CheckResult {
-        sources: front.sources,
-        diagnostics: verdicts.diagnostics,
-        component: verdicts.component,
-        statistics: verdicts.statistics,
-    }
+    let input = Input {
+        watch: options.watch(started),
+        ..Input::new(path, loader)
+    };
+    let loaded = GenFrontend
+        .load(input, text)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    crate::check(loaded, options, started)
 }
 
 /// Checks `src` as `test.gen`; `files` are other files available for

@@ -22,7 +22,7 @@ use std::fmt::Write as _;
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::timed_automata::Network;
-use genom_model::{Counts, SourceMap};
+use genom_model::{Counts, Dialect, SourceMap};
 use genom_translate::timed_automata::BuildNetwork;
 
 /// An output format of `genom-check export`.
@@ -74,6 +74,21 @@ impl Format {
             Format::Dot => "dot",
             Format::Svg => "svg",
             Format::Promela => "promela",
+        }
+    }
+
+    /// The language whose execution semantics the export of a component
+    /// written in `dialect` encodes: the one place an export's translation
+    /// is chosen by language. The timed automata (`uppaal`, `tchecker`) and
+    /// `promela` encode each language's own; the Petri nets, Fiacre and the
+    /// runtime configuration LANGUAGE.md's only; the diagrams draw the
+    /// structure, the same in both.
+    pub fn semantics(self, dialect: Dialect) -> Dialect {
+        match self {
+            Format::Uppaal | Format::Tchecker | Format::Promela | Format::Dot | Format::Svg => {
+                dialect
+            }
+            Format::Fiacre | Format::Pnml | Format::Tina | Format::Config => Dialect::Gen,
         }
     }
 
@@ -202,17 +217,17 @@ pub(crate) fn promela_opening(out: &mut String, input: &ExportInput<'_>, what: &
 }
 
 /// The network of timed automata the `uppaal` and `tchecker` exports
-/// print: for a GenoM3 component, GenoM3's timed semantics
-/// ([`Network::build_genom3`], genom-check's default instances: one per
-/// activity, plus the request restarting one that interrupts itself);
-/// otherwise the LANGUAGE.md zone engine's ([`Network::build`]). The
-/// second value, for a GenoM3 component, says which semantics for the
-/// exports' headers.
-pub(crate) fn timed_network(
+/// print: in GenoM3's timed semantics ([`Network::build_genom3`],
+/// genom-check's default instances: one per activity, plus the request
+/// restarting one that interrupts itself), or in the LANGUAGE.md zone
+/// engine's ([`Network::build`]). The second value, for GenoM3's, says
+/// which semantics for the exports' headers.
+fn timed_network(
     component: &Component,
+    semantics: Dialect,
     format: &'static str,
 ) -> Result<(Network, Option<&'static str>), ExportError> {
-    if component.genom3.is_none() {
+    if semantics == Dialect::Gen {
         let net = Network::build(component, &Behaviour::new(component));
         return Ok((net, None));
     }
@@ -228,17 +243,20 @@ pub(crate) fn timed_network(
     ))
 }
 
-/// Exports the component in `format`.
+/// Exports the component in `format`, in the translation of
+/// [`Format::semantics`] for the component's language.
 pub fn export(format: Format, input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    match format {
-        Format::Uppaal => uppaal::export(input),
-        Format::Fiacre => fiacre::export(input),
-        Format::Tchecker => tchecker::export(input),
-        Format::Pnml => pnml::export(input),
-        Format::Tina => tina::export(input),
-        Format::Config => config::export(input),
-        Format::Dot => dot::export(input),
-        Format::Svg => svg::export(input),
-        Format::Promela => promela::export(input),
+    let c = input.component;
+    match (format, format.semantics(c.dialect())) {
+        (Format::Uppaal, s) => uppaal::export(input, timed_network(c, s, "uppaal")?),
+        (Format::Tchecker, s) => tchecker::export(input, timed_network(c, s, "tchecker")?),
+        (Format::Promela, Dialect::Gen) => promela::export(input),
+        (Format::Promela, Dialect::Genom3) => promela_genom3::export(input),
+        (Format::Fiacre, _) => fiacre::export(input),
+        (Format::Pnml, _) => pnml::export(input),
+        (Format::Tina, _) => tina::export(input),
+        (Format::Config, _) => config::export(input),
+        (Format::Dot, _) => dot::export(input),
+        (Format::Svg, _) => svg::export(input),
     }
 }

@@ -50,9 +50,6 @@ const MAX_CODELS: usize = 250;
 /// Exports the component's untimed semantics as a Promela model.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     let c = input.component;
-    if c.genom3.is_some() {
-        return crate::promela_genom3::export(input);
-    }
     supported(c)?;
     let mut out = String::new();
     header(&mut out, input);

@@ -37,9 +37,12 @@ use genom_model::timed_automata::{
 
 use crate::{ExportError, ExportInput, Exported};
 
-/// Exports the component as a TChecker model.
-pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let (net, semantics) = crate::timed_network(input.component, "tchecker")?;
+/// Exports the component's network (and, when not the zone engine's, the
+/// semantics it encodes) as a TChecker model.
+pub fn export(
+    input: &ExportInput<'_>,
+    (net, semantics): (Network, Option<&'static str>),
+) -> Result<Exported, ExportError> {
     let text = match semantics {
         Some(s) => render_as(&net, s),
         None => render(&net),

@@ -36,9 +36,12 @@ use genom_model::timed_automata::{
 
 use crate::{ExportError, ExportInput, Exported};
 
-/// Exports the component as an UPPAAL model and its queries.
-pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let (net, semantics) = crate::timed_network(input.component, "uppaal")?;
+/// Exports the component's network (and, when not the zone engine's, the
+/// semantics it encodes) as an UPPAAL model and its queries.
+pub fn export(
+    input: &ExportInput<'_>,
+    (net, semantics): (Network, Option<&'static str>),
+) -> Result<Exported, ExportError> {
     let mut out = match semantics {
         Some(s) => render_as(&net, s),
         None => render(&net),

@@ -11,10 +11,8 @@ mod common;
 
 use std::path::Path;
 
-use genom_check::{CheckOptions, check_file};
-use genom_checker::Engine;
+use genom_checker::{CheckOptions, Engine};
 use genom_export::{ExportInput, Format, Verification, config};
-use genom_parser::FsLoader;
 use serde_json::Value;
 
 const SCHEMA_PATH: &str = "schema/runtime-config.schema.json";
@@ -29,7 +27,7 @@ fn export_config(path: &Path) -> String {
 /// [`export_config`] with check options; the component is exported even
 /// when unverified (as `--allow-unverified` does).
 fn export_with(path: &Path, options: &CheckOptions) -> String {
-    let result = check_file(path, &FsLoader, options).expect("spec is readable");
+    let result = common::check_with(path, options);
     let component = result.component.as_ref().expect("spec has a component");
     let verification = Verification::of(
         Some(component),

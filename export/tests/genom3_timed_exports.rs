@@ -9,10 +9,12 @@
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use genom_check::{CheckOptions, Inputs, check_path};
+use genom_checker::CheckOptions;
 use genom_export::{ExportInput, Exported, Format, Verification};
 use genom_model::component::Component;
 use genom_model::timed_automata::{LabelKind, Network};
@@ -32,13 +34,8 @@ fn fixtures() -> Vec<(String, Component)> {
     paths
         .into_iter()
         .map(|path| {
-            let inputs = Inputs {
-                wcet_file: Some(path.with_extension("wcet")),
-                ..Inputs::default()
-            };
-            // The whole check: a GenoM3 check without behaviour returns no
-            // component (src/genom3.rs takes it only to explore it).
-            let r = check_path(&path, &inputs, &CheckOptions::new()).expect("readable");
+            let wcet = path.with_extension("wcet");
+            let r = common::check_genom3(&path, &[], Some(&wcet), &CheckOptions::new());
             let name = path
                 .file_stem()
                 .expect("a name")
@@ -313,12 +310,7 @@ fn an_activity_that_interrupts_itself_has_a_second_slot() {
 #[test]
 fn a_language_md_component_keeps_the_zone_engine_network() {
     let path = Path::new("../specs/pilot.gen");
-    let r = check_path(
-        path,
-        &Inputs::default(),
-        &CheckOptions::new().behaviour(false),
-    )
-    .expect("readable");
+    let r = common::check_with(path, &CheckOptions::new().behaviour(false));
     let c = r.component.expect("a component");
     assert!(Network::build_genom3(&c).is_err());
     let tck = export(Format::Tchecker, &c).main;

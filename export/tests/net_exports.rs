@@ -12,7 +12,7 @@ mod common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use genom_check::CheckResult;
+use common::CheckResult;
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Idx;

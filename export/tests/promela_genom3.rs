@@ -7,10 +7,13 @@
 
 #![allow(clippy::expect_used, clippy::print_stderr)] // test support code
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
+use common::CheckResult;
+use genom_checker::CheckOptions;
 use genom_export::{ExportInput, Format, Verification};
 
 const STUBS: &str = "../tests/fixtures/genom3/include";
@@ -35,11 +38,9 @@ fn fixtures() -> Vec<PathBuf> {
 }
 
 fn check(path: &Path) -> CheckResult {
-    let inputs = Inputs {
-        include_dirs: vec![PathBuf::from(STUBS)],
-        ..Inputs::default()
-    };
-    check_path(path, &inputs, &CheckOptions::new().behaviour(false)).expect("readable")
+    let include_dirs = [PathBuf::from(STUBS)];
+    let options = CheckOptions::new().behaviour(false);
+    common::check_genom3(path, &include_dirs, None, &options)
 }
 
 fn promela(result: &CheckResult) -> String {

@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use genom_check::CheckResult;
+use common::CheckResult;
 use genom_export::Format;
 use resvg::tiny_skia;
 use resvg::usvg;

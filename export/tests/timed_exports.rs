@@ -13,14 +13,13 @@ mod common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use genom_check::{CheckOptions, check_file, check_source};
+use genom_checker::CheckOptions;
 use genom_export::{ExportInput, Exported, Format, Verification};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
 use genom_model::timed_automata::{CmpOp, LabelKind, Network, ProcessKind};
-use genom_parser::FsLoader;
 use genom_translate::timed_automata::BuildNetwork;
 
 fn stem(path: &Path) -> String {
@@ -33,14 +32,14 @@ fn stem(path: &Path) -> String {
 /// The resolved component of a file (static checks only).
 fn component_of(path: &Path) -> Component {
     let options = CheckOptions::new().behaviour(false);
-    let result = check_file(path, &FsLoader, &options).expect("spec is readable");
+    let result = common::check_with(path, &options);
     result.component.expect("spec has a component")
 }
 
 /// The resolved component of a text.
 fn component_of_text(name: &str, text: &str) -> Component {
     let options = CheckOptions::new().behaviour(false);
-    let result = check_source(Path::new(name), text.to_owned(), &FsLoader, &options);
+    let result = common::check_text(Path::new(name), text.to_owned(), &options);
     result
         .component
         .unwrap_or_else(|| panic!("{name} has a component: {:?}", result.diagnostics))

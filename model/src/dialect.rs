@@ -29,6 +29,33 @@ impl Dialect {
             Dialect::Genom3 => "GenoM3",
         }
     }
+
+    /// What the language calls a thread of execution: `thread`, or
+    /// GenoM3's `task`.
+    pub fn thread_word(self) -> &'static str {
+        match self {
+            Dialect::Gen => "thread",
+            Dialect::Genom3 => "task",
+        }
+    }
+
+    /// Where the language writes a codel's WCET, as a remedy: its codels'
+    /// `max-time`, or GenoM3's `--wcet` side file.
+    pub fn wcet_remedy(self) -> &'static str {
+        match self {
+            Dialect::Gen => "give every codel a `max-time`",
+            Dialect::Genom3 => "give every codel a WCET in a `--wcet` file",
+        }
+    }
+
+    /// The attribute a codel's WCET is written in, when the text has one:
+    /// `max-time` (GenoM3's WCETs are in a side file).
+    pub fn wcet_attribute(self) -> Option<&'static str> {
+        match self {
+            Dialect::Gen => Some("max-time"),
+            Dialect::Genom3 => None,
+        }
+    }
 }
 
 /// A `#pragma` line of a GenoM3 file.

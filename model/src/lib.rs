@@ -15,6 +15,7 @@ pub mod component;
 pub mod diagnostic;
 pub mod dialect;
 pub mod duration;
+pub mod frontend;
 pub mod kinds;
 pub mod limits;
 pub mod loader;

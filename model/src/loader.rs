@@ -48,6 +48,25 @@ pub trait Loader {
     }
 }
 
+/// The name the text read from standard input is checked under (its
+/// includes are searched from the current folder).
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// Whether `path` is `-`: standard input.
+pub fn is_stdin(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// How a path given by the user is shown: `/`-separated, and `-` (standard
+/// input) as `<stdin>`.
+pub fn display(path: &Path) -> String {
+    if is_stdin(path) {
+        STDIN_NAME.to_owned()
+    } else {
+        crate::span::display_path(path)
+    }
+}
+
 /// Reads a whole text from `reader`, at most [`MAX_FILE_BYTES`].
 pub fn read_bounded(reader: impl Read) -> Result<String, LoadError> {
     let mut bytes = Vec::new();

@@ -3,6 +3,8 @@
 //! with all syntax diagnostics (`ParserReturn { sources, ast, diagnostics }`,
 //! as in oxc); then lowers the AST into the component model ([`resolve`],
 //! [`lower`]), with the diagnostics resolution raises ([`checks`]).
+//! [`GenFrontend`] is this front-end behind the one front-end interface,
+//! [`genom_model::frontend::Frontend`].
 //!
 //! Parsing never stops at the first error: each top-level item is parsed on
 //! its own and, after an error, parsing resumes at the next line that starts
@@ -13,6 +15,7 @@ pub mod ast;
 mod build;
 pub mod checks;
 pub mod diagnostics;
+mod frontend;
 mod grammar;
 pub mod literal;
 pub use genom_model::loader;
@@ -29,6 +32,7 @@ use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 use pest::Parser as _;
 
 pub use ast::Ast;
+pub use frontend::GenFrontend;
 pub use loader::{FsLoader, LoadError, Loader, MemoryLoader};
 pub use resolve::{ResolveReturn, resolve};
 pub use syntax::MAX_NESTING;

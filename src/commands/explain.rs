@@ -28,8 +28,5 @@ pub fn run(args: &ExplainArgs) -> u8 {
 
 /// The explanation of `code`, from whichever front-end or check owns it.
 pub fn text_of(code: Code) -> String {
-    match genom_genom3::explain::explanation(code) {
-        Some(body) => genom_check::explain::explanation_with(code, body),
-        None => genom_check::explain::explanation(code),
-    }
+    genom_check::explain::explanation(code)
 }

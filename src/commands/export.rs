@@ -141,17 +141,11 @@ fn format(f: ExportFormat) -> Format {
     }
 }
 
-/// Whether the export would model a GenoM3 component with LANGUAGE.md's
-/// semantics (every behavioural format; the diagrams only draw structure).
-/// The timed-automata exports model GenoM3's own timed semantics, and
-/// `promela` its untimed semantics.
+/// Whether the export would model the component with another language's
+/// semantics ([`Format::semantics`]: a GenoM3 component in a format that
+/// has only LANGUAGE.md's).
 fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
-    result.dialect == genom_model::Dialect::Genom3
-        && !matches!(args.target, ExportFormat::Dot | ExportFormat::Svg)
-        && !matches!(
-            args.target,
-            ExportFormat::Tchecker | ExportFormat::Uppaal | ExportFormat::Promela
-        )
+    format(args.target).semantics(result.dialect) != result.dialect
 }
 
 /// What the check established.

@@ -191,25 +191,33 @@ pub fn strategy() -> impl proptest::strategy::Strategy<Value = GeneratorConfig> 
 #[cfg(test)]
 mod tests {
     use std::path::Path;
+    use std::time::{Duration, Instant};
 
+    use genom_checker::{CheckOptions, Checked};
     use genom_model::Severity;
-    use genom_parser::MemoryLoader;
+    use genom_model::frontend::{Frontend as _, Input};
+    use genom_parser::{GenFrontend, MemoryLoader};
     use proptest::prelude::*;
 
     use super::*;
-    use genom_check::{CheckOptions, CheckResult, check_source};
 
-    fn check(text: &str, behaviour: bool) -> CheckResult {
+    /// The whole check of `text` (the front-end, then the checker), as the
+    /// product runs it.
+    fn check(text: &str, behaviour: bool) -> Checked {
         let options = CheckOptions::new()
             .behaviour(behaviour)
             .max_states(20_000)
-            .timeout(Some(std::time::Duration::from_secs(2)));
-        check_source(
-            Path::new("gen.gen"),
-            text.to_owned(),
-            &MemoryLoader::new(),
-            &options,
-        )
+            .timeout(Some(Duration::from_secs(2)));
+        let started = Instant::now();
+        let loader = MemoryLoader::new();
+        let input = Input {
+            watch: options.watch(started),
+            ..Input::new(Path::new("gen.gen"), &loader)
+        };
+        let loaded = GenFrontend
+            .load(input, text.to_owned())
+            .unwrap_or_else(|e| panic!("{e:?}"));
+        genom_checker::check(loaded, &options, started)
     }
 
     /// Errors and warnings of the static checks, rendered for a failure

@@ -12,6 +12,7 @@ use genom_model::component::{Codel, Component, Outcome, Service};
 use genom_model::kinds::ServiceKind;
 use genom_model::{Code, Diagnostic, Span};
 
+use super::registry::{Applies, StaticCheck};
 use super::unreachable_codel::{codel_graph, reachable_from};
 
 /// `genom-check explain auto-terminates`.
@@ -101,6 +102,14 @@ fn end_points(service: &Service, codel: &Codel) -> Vec<EndPoint> {
         })
         .collect()
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "auto services",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::AutoTerminates, EXPLANATION)],
+};
 
 /// Reports every `auto` service that can end by itself.
 pub fn check(c: &Component) -> Vec<Diagnostic> {

@@ -9,6 +9,7 @@ use genom_model::duration::format_ns;
 use genom_model::kinds::CodelKind;
 use genom_model::{Code, Diagnostic, Span, Trace};
 
+use super::registry::{Applies, StaticCheck};
 use crate::genom3::Machine;
 use crate::genom3::timed::analysis::{Cause, TimingAnalysis};
 
@@ -52,6 +53,14 @@ activity calibrate() {
 
 Split the work into codels joined by `yield pause::…` (one per wake-up),
 or move the activity to a task with a longer period."#;
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "codel overruns",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::CodelOverrun, EXPLANATION)],
+};
 
 /// Codels whose WCET exceeds their thread's period.
 pub fn check(c: &Component) -> Vec<Diagnostic> {

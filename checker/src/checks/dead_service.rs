@@ -4,6 +4,7 @@
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::engine::Analysis;
 
 /// `genom-check explain dead-service`.
@@ -23,6 +24,9 @@ Example:
 auto service monitor { thread: t; forbids: calibrate; start codel { exec: m(); next: start; } }
 service calibrate { thread: t; start codel { exec: c(); } }    // dead-service: always FORBIDDEN
 ```"#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::DeadService, EXPLANATION)];
 
 /// `service` never starts, because of `reason`.
 pub fn dead_service(c: &Component, service: ServiceId, reason: &str, trace: Trace) -> Diagnostic {

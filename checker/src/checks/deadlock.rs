@@ -5,6 +5,7 @@
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::engine::Analysis;
 
 /// `genom-check explain deadlock`.
@@ -30,6 +31,9 @@ A cycle in which some service has a `max-time` is not a deadlock: its
 watchdog ends the pending instance (with `TIMEOUT`) and the others start.
 Break the cycle by removing one of the `delays`, or by making the services
 exclusive with `forbids` instead."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::Deadlock, EXPLANATION)];
 
 /// A deadlock among `services`, with the `delays` entries of the cycle.
 pub fn deadlock(c: &Component, services: &[ServiceId], trace: Trace) -> Diagnostic {

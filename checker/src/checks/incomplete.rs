@@ -33,6 +33,11 @@ concurrent request of an activity multiplies the states), or cut links: an
 activity on its own task that touches no ids member another task's codels
 use is explored alone."#;
 
+use super::registry::Explained;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::Incomplete, EXPLANATION)];
+
 /// Verification stopped by `stop`; `what` names the unproven properties.
 pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
     let limit = match stop {

@@ -14,6 +14,8 @@
 use crate::genom3::{G3Analysis, Livelock, Machine, Owner};
 use genom_model::{Code, Diagnostic};
 
+use super::registry::Explained;
+
 /// `genom-check explain livelock`.
 pub const EXPLANATION_LIVELOCK: &str = r#"A GenoM3 state machine can enter a cycle of transitions that have no
 `pause::` and that no yield leaves. GenoM3 runs a transition without
@@ -66,6 +68,12 @@ see: if the way out is never taken, the task spins as in a `livelock`.
 
 Every state that can spin is on some reported cycle: when several cycles
 share states, enough of them are reported, each with its own trace."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[
+    (Code::Livelock, EXPLANATION_LIVELOCK),
+    (Code::UnpausedLoop, EXPLANATION_UNPAUSED_LOOP),
+];
 
 /// The diagnostic of one reachable unpaused cycle.
 pub fn diagnostic(m: &Machine<'_>, l: &Livelock) -> Diagnostic {

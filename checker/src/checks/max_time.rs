@@ -7,6 +7,7 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::timed::TimedFacts;
 
 /// `genom-check explain max-time-infeasible`.
@@ -60,6 +61,13 @@ codel, then its inter codels, one per period on a periodic thread).
 
 This is advice: a servo loop bounded by a watchdog is a normal design. Check
 that the stop latency is acceptable."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[
+    (Code::MaxTimeInfeasible, EXPLANATION_INFEASIBLE),
+    (Code::MaxTimeExceeded, EXPLANATION_EXCEEDED),
+    (Code::MaxTimeWatchdog, EXPLANATION_WATCHDOG),
+];
 
 /// The diagnostics for every service with a `max-time`.
 pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {

@@ -12,7 +12,9 @@ use std::collections::BTreeMap;
 
 use genom_model::component::{Component, ServiceId};
 use genom_model::kinds::CodelKind;
-use genom_model::{Code, Diagnostic, Span};
+use genom_model::{Code, Diagnostic, Dialect, Span};
+
+use super::registry::{Applies, StaticCheck};
 
 /// `genom-check explain missing-on-inter`.
 pub const EXPLANATION: &str = r#"A start or exec codel has no `on-inter`, and its service can be interrupted:
@@ -107,6 +109,14 @@ fn interrupters(c: &Component) -> BTreeMap<ServiceId, Interrupter<'_>> {
     }
     out
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "on-inter cleanup",
+    applies: Applies::Only(Dialect::Gen),
+    run: check,
+    codes: &[(Code::MissingOnInter, EXPLANATION)],
+};
 
 /// Reports every start and exec codel without `on-inter` of every
 /// interruptible service with a start codel.

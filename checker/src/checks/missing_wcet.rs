@@ -4,6 +4,8 @@
 use genom_model::component::{Component, ServiceId, ThreadId};
 use genom_model::{Code, Diagnostic};
 
+use super::registry::{Applies, StaticCheck};
+
 /// `genom-check explain missing-wcet`.
 pub const EXPLANATION: &str = r#"Some codels have no worst-case execution time (`max-time` on the codel).
 As the language reference says, such a codel is treated as taking no time:
@@ -41,6 +43,14 @@ run it are not proven to fit their period (`thread-overrun`) and the
 response times of the services that use it are too small. Without any WCET
 file the timed analysis does not run at all."#;
 
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "missing WCETs",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::MissingWcet, EXPLANATION)],
+};
+
 /// One advice for the component, when something timing-related depends on
 /// codels without WCET.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
@@ -71,11 +81,12 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
     if !services.is_empty() {
         unproven.push(format!("the max-time of {}", services.join(", ")));
     }
-    let (written, remedy) = if c.genom3.is_some() {
-        ("", "give every codel a WCET in a `--wcet` file")
-    } else {
-        (" (`max-time`)", "give every codel a `max-time`")
-    };
+    let dialect = c.dialect();
+    let written = dialect
+        .wcet_attribute()
+        .map(|a| format!(" (`{a}`)"))
+        .unwrap_or_default();
+    let remedy = dialect.wcet_remedy();
     let mut d = Diagnostic::new(
         Code::MissingWcet,
         format!(

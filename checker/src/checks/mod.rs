@@ -4,6 +4,12 @@
 //! explorer's [`Analysis`]. Resolution checks belong to the front-end
 //! (`genom_parser::checks`); their files here hold only their tests, which
 //! run the whole check.
+//!
+//! The registry: a static check is its file (its `CHECK`: name, the
+//! components it applies to, the function, its codes and explanations)
+//! and one line in [`STATIC_CHECKS`]; a verdict of the engines lists its
+//! codes in [`VERDICTS`]. `genom-check explain` reads the explanations
+//! from here ([`explanation`]).
 
 pub mod auto_terminates;
 pub mod codel_overrun;
@@ -26,6 +32,7 @@ pub mod no_termination;
 pub mod privilege_escalation;
 pub mod prototype_mismatch;
 pub mod recursive_type;
+pub mod registry;
 pub mod response_time;
 #[cfg(test)]
 mod service_structure;
@@ -40,73 +47,79 @@ pub mod unreachable_codel;
 pub mod unused_report;
 pub mod update_rules;
 
-use genom_model::Diagnostic;
 use genom_model::component::Component;
 use genom_model::limits::Watch;
+use genom_model::{Code, Diagnostic};
 
 use crate::engine::Analysis;
 use crate::timed::TimedFacts;
 
-/// A static check: the model in, its findings out.
-type StaticCheck = fn(&Component) -> Vec<Diagnostic>;
+pub use registry::{Applies, Explained, StaticCheck};
 
-/// Which components a static check applies to: the one place that says it
-/// (a check never tests the component's language itself to skip it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Applies {
-    /// Every component.
-    Always,
-    /// LANGUAGE.md components only (the reason is in the check's docs).
-    DialectOnly,
+/// The static checks, in the order they run: the one place a static check
+/// is registered. Each check file describes itself in its `CHECK` (the
+/// words naming it, the components it applies to, its codes and their
+/// explanations).
+pub const STATIC_CHECKS: &[&StaticCheck] = &[
+    &recursive_type::CHECK,
+    &prototype_mismatch::CHECK,
+    &update_rules::CHECK,
+    &unreachable_codel::CHECK,
+    &no_termination::CHECK,
+    &auto_terminates::CHECK,
+    &unused_report::CHECK,
+    &missing_on_inter::CHECK,
+    &privilege_escalation::CHECK,
+    &codel_overrun::CHECK,
+    &missing_wcet::CHECK,
+];
+
+/// The codes of the verdicts the engines' explorations give (each file's
+/// `CODES`), with their explanations: [`behaviour`], [`timing`], the
+/// response times and the GenoM3 engines call these checks themselves.
+pub const VERDICTS: &[&[Explained]] = &[
+    deadlock::CODES,
+    starvation::CODES,
+    dead_service::CODES,
+    unbounded_interrupt::CODES,
+    incomplete::CODES,
+    thread_overrun::CODES,
+    max_time::CODES,
+    response_time::CODES,
+    livelock::CODES,
+];
+
+/// Every code the checker reports, with its explanation: the registered
+/// static checks', then the verdicts'.
+pub fn codes() -> impl Iterator<Item = Explained> {
+    STATIC_CHECKS
+        .iter()
+        .flat_map(|c| c.codes.iter())
+        .chain(VERDICTS.iter().flat_map(|v| v.iter()))
+        .copied()
 }
 
-/// The static checks, in the order they run, with the words that name
-/// them when a limit stops the phase before them and the components they
-/// apply to.
-const STATIC_CHECKS: [(&str, Applies, StaticCheck); 11] = [
-    ("recursive types", Applies::Always, recursive_type::check),
-    (
-        "codel prototypes",
-        Applies::Always,
-        prototype_mismatch::check,
-    ),
-    ("update rules", Applies::Always, update_rules::check),
-    (
-        "codel reachability",
-        Applies::Always,
-        unreachable_codel::check,
-    ),
-    ("termination", Applies::Always, no_termination::check),
-    ("auto services", Applies::Always, auto_terminates::check),
-    ("unused reports", Applies::DialectOnly, unused_report::check),
-    (
-        "on-inter cleanup",
-        Applies::DialectOnly,
-        missing_on_inter::check,
-    ),
-    (
-        "privilege escalation",
-        Applies::Always,
-        privilege_escalation::check,
-    ),
-    ("codel overruns", Applies::Always, codel_overrun::check),
-    ("missing WCETs", Applies::Always, missing_wcet::check),
-];
+/// The explanation (`genom-check explain`) of a code the checker reports;
+/// `None` for the front-ends' codes.
+pub fn explanation(code: Code) -> Option<&'static str> {
+    codes().find(|&(c, _)| c == code).map(|(_, text)| text)
+}
 
 /// Runs every check that applies to the resolved model. Each is linear in
 /// the model (plus what it reports); `watch` is looked at between two
 /// checks, and a limit passed ends the phase with `incomplete` naming the
 /// checks left.
 pub fn run(component: &Component, watch: &Watch) -> Vec<Diagnostic> {
-    let is_genom3 = component.genom3.is_some();
-    let applying: Vec<&(&str, Applies, StaticCheck)> = STATIC_CHECKS
+    let dialect = component.dialect();
+    let applying: Vec<&StaticCheck> = STATIC_CHECKS
         .iter()
-        .filter(|(_, applies, _)| !(is_genom3 && *applies == Applies::DialectOnly))
+        .copied()
+        .filter(|c| c.applies.to(dialect))
         .collect();
     let mut out = Vec::new();
-    for (i, (_, _, check)) in applying.iter().enumerate() {
+    for (i, check) in applying.iter().enumerate() {
         if let Some(limit) = watch.exceeded() {
-            let left: Vec<&str> = applying[i..].iter().map(|(name, _, _)| *name).collect();
+            let left: Vec<&str> = applying[i..].iter().map(|c| c.name).collect();
             out.push(genom_model::limits::static_stopped(
                 component.name.span,
                 limit,
@@ -114,7 +127,7 @@ pub fn run(component: &Component, watch: &Watch) -> Vec<Diagnostic> {
             ));
             break;
         }
-        out.extend(check(component));
+        out.extend((check.run)(component));
     }
     out
 }
@@ -179,7 +192,7 @@ mod watch_tests {
 };
 ";
         let c = genom_genom3::load_clean(text, None).unwrap_or_default();
-        assert!(c.genom3.is_some(), "a GenoM3 component");
+        assert_eq!(c.dialect(), genom_model::Dialect::Genom3);
         assert!(!missing_on_inter::check(&c).is_empty(), "the check fires");
         let found = run(&c, &Watch::unlimited());
         let skipped = [Code::MissingOnInter, Code::UnusedReport];
@@ -187,5 +200,55 @@ mod watch_tests {
             found.iter().all(|d| !skipped.contains(&d.code)),
             "{found:?}"
         );
+    }
+}
+
+#[cfg(test)]
+mod registry_tests {
+    use std::collections::BTreeSet;
+
+    use super::*;
+
+    /// A check's code is registered once, with a long explanation (a
+    /// static check's shows an example); a static check's name is unique.
+    #[test]
+    fn every_registered_code_is_explained_once() {
+        let mut seen = BTreeSet::new();
+        for (code, text) in codes() {
+            assert!(seen.insert(code), "`{code}` is registered twice");
+            assert!(!text.trim().is_empty(), "`{code}` has no explanation");
+        }
+        for &(code, text) in STATIC_CHECKS.iter().flat_map(|c| c.codes) {
+            assert!(
+                text.matches("```").count() >= 2,
+                "the explanation of `{code}` has no fenced example"
+            );
+        }
+        let names: BTreeSet<&str> = STATIC_CHECKS.iter().map(|c| c.name).collect();
+        assert_eq!(names.len(), STATIC_CHECKS.len(), "two checks share a name");
+        assert!(STATIC_CHECKS.iter().all(|c| !c.codes.is_empty()));
+    }
+
+    /// A registered check's findings carry only the codes it registered
+    /// (`incomplete` aside, which a limit may add): a code it reports
+    /// without registering would have no explanation.
+    #[test]
+    fn static_checks_report_only_their_registered_codes() {
+        let src = format!(
+            "{}service s {{ thread: main; start codel {{ exec: f(); next: s; }}
+  exec codel s {{ exec: g(); next: s; }} report r; }}\n",
+            crate::testing::HEADER
+        );
+        let c = crate::testing::check(&src).component.unwrap_or_default();
+        for check in STATIC_CHECKS {
+            for d in (check.run)(&c) {
+                assert!(
+                    check.codes.iter().any(|&(code, _)| code == d.code),
+                    "{} reports `{}`, which it does not register",
+                    check.name,
+                    d.code
+                );
+            }
+        }
     }
 }

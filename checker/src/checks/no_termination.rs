@@ -14,9 +14,10 @@ use std::collections::BTreeSet;
 
 use genom_model::component::{CodelId, Component, Outcome, Service};
 use genom_model::kinds::ServiceKind;
-use genom_model::{Code, Diagnostic, Span};
+use genom_model::{Code, Diagnostic, Dialect, Span};
 use petgraph::visit::{Dfs, Reversed};
 
+use super::registry::{Applies, StaticCheck};
 use super::unreachable_codel::{CodelGraph, codel_graph, reachable_from};
 
 /// `genom-check explain no-termination`.
@@ -131,6 +132,14 @@ fn stuck_codels(c: &Component, service: &Service, start: CodelId) -> Vec<CodelId
         .collect()
 }
 
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "termination",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::NoTermination, EXPLANATION)],
+};
+
 /// Reports every non-`auto` service with a start codel that has reachable
 /// codels from which it cannot end by itself.
 pub fn check(c: &Component) -> Vec<Diagnostic> {
@@ -147,15 +156,14 @@ pub fn check(c: &Component) -> Vec<Diagnostic> {
         let Some((&first, others)) = stuck.split_first() else {
             continue;
         };
-        out.push(if c.genom3.is_some() {
-            no_termination_genom3(&service.name.name, first, others)
-        } else {
-            no_termination(
+        out.push(match c.dialect() {
+            Dialect::Genom3 => no_termination_genom3(&service.name.name, first, others),
+            Dialect::Gen => no_termination(
                 &service.name.name,
                 service.max_time.is_some(),
                 first,
                 others,
-            )
+            ),
         });
     }
     out

@@ -21,6 +21,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use genom_model::component::{Component, DataPath, Ref, Service, ServiceId, Step, StructureId};
 use genom_model::{Code, Diagnostic, Span};
 
+use super::registry::{Applies, StaticCheck};
+
 /// `genom-check explain privilege-escalation`.
 pub const EXPLANATION: &str = r#"A service that a weaker credential class may request controls a service that
 needs a stronger one: it lists it in `stops`, `delays` or `forbids`, or it
@@ -239,6 +241,14 @@ fn escalations(
     }
     out
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "privilege escalation",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::PrivilegeEscalation, EXPLANATION)],
+};
 
 /// Reports every pair of services where the one with the weaker credential
 /// controls the other, in service order. Only the pairs that can escalate

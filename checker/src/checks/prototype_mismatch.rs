@@ -47,6 +47,8 @@ pub fn prototype_mismatch(
 use genom_model::component::types::TypeTable as _;
 use genom_model::component::{Call, Component, Ty};
 
+use super::registry::{Applies, StaticCheck};
+
 /// One argument of a prototype: const-ness and type (`None` when the
 /// argument did not resolve, which matches anything).
 type Signature = Vec<(bool, Option<Ty>)>;
@@ -81,6 +83,14 @@ fn show(c: &Component, s: &Signature) -> String {
         .collect();
     args.join(", ")
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "codel prototypes",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::PrototypeMismatch, EXPLANATION)],
+};
 
 /// Reports each codel function used with more than one prototype, once,
 /// labelling every use.

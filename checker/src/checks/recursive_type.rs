@@ -10,6 +10,8 @@ use genom_model::{Code, Diagnostic, Span};
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::{DiGraph, NodeIndex};
 
+use super::registry::{Applies, StaticCheck};
+
 /// `genom-check explain recursive-type`.
 pub const EXPLANATION: &str = r#"A type contains itself by value: a struct has a field of its own type
 (directly, or through other structs, fixed arrays and typedefs), or a
@@ -35,6 +37,14 @@ struct Edge {
     span: Span,
     text: String,
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "recursive types",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::RecursiveType, EXPLANATION)],
+};
 
 /// Every cycle of by-value containment among the named types, one
 /// diagnostic per cycle, at its first-declared type.

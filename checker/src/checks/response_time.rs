@@ -11,6 +11,7 @@ use genom_model::duration::format_ns;
 use genom_model::response::{Bound, ResponseTime, sort_response_times};
 use genom_model::{Code, Diagnostic};
 
+use super::registry::Explained;
 use crate::timed::{ServiceResponse, Worst};
 
 /// `genom-check explain deadline-miss`.
@@ -39,6 +40,9 @@ service Step {
   // acknowledged at a wake-up, run at the next one: 10ms + 2ms = 12ms
 }
 ```"#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::DeadlineMiss, EXPLANATION)];
 
 /// The response times of `c`'s services from the engine's results, by
 /// service name.

@@ -6,6 +6,7 @@
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::engine::Analysis;
 
 /// `genom-check explain starvation`.
@@ -29,6 +30,9 @@ service move { thread: t; start codel { exec: go(); } }
 Give the blocking service a `max-time` (the watchdog bounds it), give its
 loop an exit, or do not delay a permanent service. A waiter with its own
 `max-time` does not starve: its watchdog ends it with `TIMEOUT`."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::Starvation, EXPLANATION)];
 
 /// `waiter` can wait forever for `blocker`.
 pub fn starvation(

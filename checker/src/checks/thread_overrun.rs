@@ -6,6 +6,7 @@ use genom_model::component::{Component, Thread};
 use genom_model::duration::format_ns;
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::genom3::Machine;
 use crate::genom3::timed::analysis::{Cause, TimingAnalysis};
 use crate::timed::TimedFacts;
@@ -66,6 +67,9 @@ The verdict rests on the WCET file and on how many requests of each
 activity clients send at once (`--max-instances N`, default 1, plus one
 request restarting an activity that interrupts itself): the summary's
 `assuming …` line says both; a clean result holds under them only."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::ThreadOverrun, EXPLANATION)];
 
 /// One diagnostic per thread that can overrun.
 pub fn check(c: &Component, facts: &TimedFacts) -> Vec<Diagnostic> {

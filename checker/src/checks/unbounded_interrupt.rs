@@ -4,6 +4,7 @@
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
+use super::registry::Explained;
 use crate::engine::Analysis;
 
 /// `genom-check explain unbounded-interrupt`.
@@ -27,6 +28,9 @@ service move {
 ```
 
 Give the inter codels a path to `end` (or a report)."#;
+
+/// The codes of this verdict, for the registry ([`super::VERDICTS`]).
+pub const CODES: &[Explained] = &[(Code::UnboundedInterrupt, EXPLANATION)];
 
 /// `service` may never end once interrupted.
 pub fn unbounded_interrupt(c: &Component, service: ServiceId, trace: Trace) -> Diagnostic {

@@ -20,6 +20,8 @@ use genom_model::{Code, Diagnostic, Span};
 use petgraph::graphmap::DiGraphMap;
 use petgraph::visit::Dfs;
 
+use super::registry::{Applies, StaticCheck};
+
 /// `genom-check explain unreachable-codel`.
 pub const EXPLANATION: &str = r#"A start, exec or inter codel that no execution of its service reaches: no
 chain of `next` outcomes and `on-inter` cleanups leads to it from the
@@ -101,6 +103,14 @@ pub fn unreachable(service: &str, codel: &str, kind: &str, span: Span) -> Diagno
         }
     ))
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "codel reachability",
+    applies: Applies::Always,
+    run: check,
+    codes: &[(Code::UnreachableCodel, EXPLANATION)],
+};
 
 /// Reports the start, exec and inter codels of every service with a start
 /// codel that the service's codel graph does not reach from it.

@@ -9,7 +9,9 @@
 //! the sign of a `next` entry that was forgotten.
 
 use genom_model::component::{Component, Outcome, Service};
-use genom_model::{Code, Diagnostic, Span};
+use genom_model::{Code, Diagnostic, Dialect, Span};
+
+use super::registry::{Applies, StaticCheck};
 
 /// `genom-check explain unused-report`.
 pub const EXPLANATION: &str = r#"A report that the service can never end with: no codel of the service lists
@@ -58,6 +60,14 @@ fn produced(c: &Component, service: &Service, index: usize) -> bool {
             .any(|n| n.outcome == Outcome::Report(index))
     })
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "unused reports",
+    applies: Applies::Only(Dialect::Gen),
+    run: check,
+    codes: &[(Code::UnusedReport, EXPLANATION)],
+};
 
 /// Reports every report of a service without control codel that no codel
 /// lists in `next`.

@@ -62,9 +62,22 @@ pub fn const_update(data: &str, span: Span, arg: Span) -> Diagnostic {
 
 use genom_model::component::{Component, DataPath};
 
+use super::registry::{Applies, StaticCheck};
+
 fn same_data(a: &DataPath, b: &DataPath) -> bool {
     a.root == b.root && a.steps == b.steps
 }
+
+/// The registry's entry ([`super::STATIC_CHECKS`]).
+pub const CHECK: StaticCheck = StaticCheck {
+    name: "update rules",
+    applies: Applies::Always,
+    run: check,
+    codes: &[
+        (Code::UpdateNotArgument, EXPLANATION_NOT_ARGUMENT),
+        (Code::ConstUpdate, EXPLANATION_CONST),
+    ],
+};
 
 /// Checks every `update` entry of every codel against its `exec` arguments.
 pub fn check(c: &Component) -> Vec<Diagnostic> {

@@ -426,6 +426,18 @@ impl Component {
             .map(|(id, _)| id)
     }
 
+    /// The language the component was written in: GenoM3 when its
+    /// front-end recorded GenoM3's facts, else LANGUAGE.md. Code that words
+    /// a finding or picks a translation by language asks this rather than
+    /// whether [`Component::genom3`] is set.
+    pub fn dialect(&self) -> crate::Dialect {
+        if self.genom3.is_some() {
+            crate::Dialect::Genom3
+        } else {
+            crate::Dialect::Gen
+        }
+    }
+
     /// The thread with this name.
     pub fn thread_named(&self, name: &str) -> Option<ThreadId> {
         self.threads

@@ -1,7 +1,7 @@
 //! Long explanations (Markdown, as `genom-check explain CODE` prints them
 //! after the code's one-line meaning) of the diagnostic codes the GenoM3
-//! front end adds. `checker/src/explain.rs` maps each of these codes to
-//! [`explanation`].
+//! front end adds; [`crate::Genom3Frontend`] gives them to
+//! `genom-check explain`.
 
 use genom_model::Code;
 

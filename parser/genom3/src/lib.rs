@@ -31,6 +31,9 @@
 //! - [`add_wcet_file`], [`wcet::parse_wcet`], [`wcet::apply_wcets`]: the
 //!   WCET side file (`OWNER.STATE DURATION` lines).
 //! - [`explain::explanation`]: long texts of the codes this crate adds.
+//! - [`Genom3Frontend`]: all of this behind the one front-end interface,
+//!   [`genom_model::frontend::Frontend`] (the WCET file read through the
+//!   same loader as the includes).
 //!
 //! # Pipeline
 //!
@@ -48,6 +51,7 @@ mod builtin;
 mod detect;
 mod diagnostics;
 pub mod explain;
+mod frontend;
 mod grammar;
 pub mod load;
 pub mod lower;
@@ -62,6 +66,7 @@ use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic, FileId, SourceMap, Span, sort_diagnostics};
 
 pub use detect::looks_like_genom3;
+pub use frontend::Genom3Frontend;
 pub use load::{FsLoader, LoadError, Loader, MemoryLoader};
 pub use preprocess::Pragma;
 

@@ -25,7 +25,7 @@ pub fn service_kind(c: &Component, id: ServiceId) -> String {
 
 /// `task` for GenoM3, else `thread`.
 pub fn thread_kind(c: &Component) -> String {
-    if c.genom3.is_some() { "task" } else { "thread" }.to_owned()
+    c.dialect().thread_word().to_owned()
 }
 
 fn time(d: &Duration) -> String {
