@@ -96,11 +96,11 @@ fn run(name: &str, text: &str, options: &CheckOptions) -> u64 {
 /// component of the depends-on relation): what the engine explores as one
 /// product without and with compositional exploration.
 fn largest(c: &Component) -> (usize, usize) {
-    let clusters = genom_checker::engine::analysis::clusters(c);
+    let clusters = genom_checker::dialect::analysis::clusters(c);
     let cluster = clusters.iter().map(Vec::len).max().unwrap_or(0);
     let part = clusters
         .iter()
-        .flat_map(|k| genom_checker::engine::compose::parts(c, k))
+        .flat_map(|k| genom_checker::dialect::compose::parts(c, k))
         .map(|p| p.len())
         .max()
         .unwrap_or(0);

@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
-use genom_checker::engine::{Limits, analyse_with};
+use genom_checker::dialect::{Limits, analyse_with};
 use genom_checker::genom3::{G3Analysis, Owner, analyse_genom3};
 use genom_model::component::Component;
 use genom_model::trace::Event;

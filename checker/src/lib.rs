@@ -13,7 +13,7 @@ mod verify;
 mod verify_genom3;
 
 pub use check::{Checked, check};
-pub use genom_engine::{engine, genom3, timed, zones};
+pub use genom_engine::{dialect, genom3, kernel, timed, zones};
 #[cfg(test)]
 pub use testing::{CheckResult, check_source};
 pub use verify::{CheckOptions, DEFAULT_MAX_INSTANCES, Engine, Verdicts, verify};

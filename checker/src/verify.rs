@@ -11,7 +11,7 @@ use genom_model::{Code, Diagnostic, ResponseTime, Severity, Statistics, sort_dia
 
 use genom_model::stats::{Decision, Method as Decider};
 
-use crate::engine::{Limits, Method};
+use crate::dialect::{Limits, Method};
 
 /// `--engine`: which engine explores the untimed clusters
 /// (`engine::method`; timed components always use the zone engine).
@@ -267,7 +267,7 @@ pub fn verify(
             }
             analysis
         } else {
-            crate::engine::analyse_using(c, options.limits(started), options.method())
+            crate::dialect::analyse_using(c, options.limits(started), options.method())
         };
         diagnostics.extend(crate::checks::behaviour(c, &analysis));
         statistics = Some(Statistics {
@@ -295,7 +295,7 @@ pub fn verify(
 /// What decided each part: one zone exploration of the whole component
 /// when `timed` (the timed engine explores its clusters with zones alike),
 /// else the untimed analysis's record.
-fn decisions(c: &Component, analysis: &crate::engine::Analysis, timed: bool) -> Vec<Decision> {
+fn decisions(c: &Component, analysis: &crate::dialect::Analysis, timed: bool) -> Vec<Decision> {
     let names = |services: &[ServiceId]| -> Vec<String> {
         services
             .iter()
@@ -326,7 +326,7 @@ fn responses(
     c: &Component,
     options: &CheckOptions,
     started: Instant,
-    analysis: &crate::engine::Analysis,
+    analysis: &crate::dialect::Analysis,
 ) -> (Vec<ResponseTime>, Vec<Diagnostic>) {
     let mut limits = options.limits(started);
     limits.max_states = limits

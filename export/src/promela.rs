@@ -1,7 +1,7 @@
 //! The `promela` export: the untimed semantics of the component
 //! (LANGUAGE.md section 3, docs/semantics.md sections 1–3) as a Promela
 //! model for SPIN, written from the specification and independently of the
-//! explorer (`checker/src/engine`), so that SPIN's verdicts can be compared
+//! explorer (`checker/engine/src/kernel`, `dialect`), so that SPIN's verdicts can be compared
 //! with genom-check's (`tests/differential/spin_diff.rs`, docs/testing/spin.md).
 //!
 //! A GenoM3 component is exported with GenoM3's own semantics instead

@@ -12,7 +12,7 @@
 //! fired and the urgent cascade that follows is run to its stable ends.
 //! Stable markings are what the component's configurations correspond to,
 //! so this graph is the one to compare with the engine's untimed explorer
-//! (`genom_engine::engine::system`, `tests/petri_common`).
+//! (`genom_engine::dialect::system`, `tests/petri_common`).
 
 use std::collections::{HashMap, HashSet, VecDeque};
 

@@ -100,8 +100,8 @@ fn ours(path: &Path, text: &str, pipeline: bool) -> Option<Ours> {
         assert!(stats.complete, "incomplete exploration: {}", path.display());
         stats.states
     } else {
-        let limits = genom_checker::engine::Limits::default();
-        let analysis = genom_checker::engine::analyse(&component, limits);
+        let limits = genom_checker::dialect::Limits::default();
+        let analysis = genom_checker::dialect::analyse(&component, limits);
         assert!(analysis.stopped.is_none(), "incomplete: {}", path.display());
         diagnostics.extend(genom_checker::checks::behaviour(&component, &analysis));
         analysis.states

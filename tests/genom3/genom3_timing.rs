@@ -13,7 +13,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
-use genom_checker::engine::Limits;
+use genom_checker::dialect::Limits;
 use genom_checker::timed::analyse_timed;
 use genom_model::trace::Event;
 use genom_model::{Code, Severity};

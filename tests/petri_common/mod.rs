@@ -10,8 +10,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use genom_check::{CheckOptions, check_file, check_source};
-use genom_checker::engine::explore::{Limits, Model, explore};
-use genom_checker::engine::system::{Config, System};
+use genom_checker::dialect::system::{Config, System};
+use genom_checker::kernel::explore::{Limits, Model, explore};
 use genom_model::Severity;
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};

@@ -15,7 +15,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use genom_check::{CheckOptions, check_source};
-use genom_checker::engine::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
+use genom_checker::dialect::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, ServiceId};
 use genom_model::stats::Method as Decider;

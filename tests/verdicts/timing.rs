@@ -522,7 +522,7 @@ fn missing_wcet_names_the_codel_and_what_is_left_unproven() {
 /// The behavioural verdicts of the untimed engine on the same component:
 /// every order, and a watchdog that may fire at any time.
 fn untimed_verdicts(c: &Component) -> Vec<Diagnostic> {
-    let analysis = genom_checker::engine::analyse(c, genom_checker::engine::Limits::default());
+    let analysis = genom_checker::dialect::analyse(c, genom_checker::dialect::Limits::default());
     genom_checker::checks::behaviour(c, &analysis)
 }
 

@@ -1080,7 +1080,7 @@ fn a_trace_must_start_with_the_component_and_end_with_the_violation() {
 /// so its trace replies `INTERRUPTED`.
 #[test]
 fn the_explorer_replies_timeout_after_a_watchdog_and_cleanup_codels() {
-    use genom_checker::engine::system::{Action, System};
+    use genom_checker::dialect::system::{Action, System};
     use genom_model::behaviour::Behaviour;
 
     let result = common::check(&common::valid("watchdog-cleanup-ends.gen"));

@@ -19,10 +19,10 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use genom_engine::engine::analyse_with;
-use genom_engine::engine::analysis::clusters;
-use genom_engine::engine::explore::{Limits, explore};
-use genom_engine::engine::system::System;
+use genom_engine::dialect::analyse_with;
+use genom_engine::dialect::analysis::clusters;
+use genom_engine::dialect::system::System;
+use genom_engine::kernel::explore::{Limits, explore};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;

@@ -21,9 +21,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use genom_engine::engine::explore::Limits;
 use genom_engine::genom3::timed::analysis::analyse_timing;
 use genom_engine::genom3::{Machine, analyse_machine};
+use genom_engine::kernel::explore::Limits;
 use genom_generate::{Genom3Config, generate_genom3};
 use genom_genom3::Genom3Options;
 use genom_model::component::Component;

@@ -24,8 +24,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use genom_engine::engine::explore::{Limits, Model, explore};
-use genom_engine::engine::store::Subsumes;
+use genom_engine::kernel::explore::{Limits, Model, explore};
+use genom_engine::kernel::store::Subsumes;
 use genom_engine::timed::model::{TAction, TState, TimedSystem};
 use genom_engine::zones::dbm::Dbm;
 use genom_generate::{GeneratorConfig, generate};

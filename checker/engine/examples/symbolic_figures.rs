@@ -12,9 +12,9 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use genom_engine::engine::analysis::clusters;
-use genom_engine::engine::explore::{Limits, explore};
-use genom_engine::engine::system::System;
+use genom_engine::dialect::analysis::clusters;
+use genom_engine::dialect::system::System;
+use genom_engine::kernel::explore::{Limits, explore};
 use genom_engine::symbolic::{Strategy, Symbolic, SymbolicLimits};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;

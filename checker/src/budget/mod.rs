@@ -63,7 +63,7 @@ use std::time::{Duration as StdDuration, Instant};
 use genom_model::Code;
 use genom_model::component::{CodelId, Component};
 
-use crate::engine::explore::Limits;
+use crate::kernel::explore::Limits;
 
 pub use relaxation::Relaxation;
 use relaxation::observe;

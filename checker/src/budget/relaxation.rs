@@ -9,7 +9,7 @@ use genom_model::kinds::CodelKind;
 use z3::ast::Int;
 use z3::{Optimize, SatResult};
 
-use crate::engine::explore::{Limits, explore};
+use crate::kernel::explore::{Limits, explore};
 use crate::timed::model::TimedSystem;
 
 use super::wcets::{SCALE_STEPS, period_of};

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use genom_model::Code;
 use genom_model::component::{CodelId, Component};
 
-use crate::engine::explore::Limits;
+use crate::kernel::explore::Limits;
 
 use super::verdict::{Eval, Verdict, verdict};
 use super::wcets::{SCALE_STEPS, period_of, scaled, with_wcets};

@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 use genom_model::component::{CodelId, Component};
 use genom_model::{Code, Severity};
 
-use crate::engine::explore::Limits;
+use crate::kernel::explore::Limits;
 use crate::timed::analyse_timed;
 
 /// The outcome of checking one candidate.
@@ -50,7 +50,7 @@ pub fn verdict(c: &Component, limits: Limits) -> Verdict {
             diagnostics.extend(crate::checks::timing(c, &facts));
             analysis
         } else {
-            crate::engine::analyse(c, limits)
+            crate::dialect::analyse(c, limits)
         };
         diagnostics.extend(crate::checks::behaviour(c, &analysis));
         if analysis.stopped.is_some() {

@@ -6,7 +6,7 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
 use super::registry::Explained;
-use crate::engine::Analysis;
+use crate::dialect::Analysis;
 
 /// `genom-check explain deadlock`.
 pub const EXPLANATION: &str = r#"A reachable state where pending service instances wait on each other in a
@@ -37,7 +37,7 @@ pub const CODES: &[Explained] = &[(Code::Deadlock, EXPLANATION)];
 
 /// A deadlock among `services`, with the `delays` entries of the cycle.
 pub fn deadlock(c: &Component, services: &[ServiceId], trace: Trace) -> Diagnostic {
-    let names = crate::engine::analysis::names(c, services);
+    let names = crate::dialect::analysis::names(c, services);
     let first = services
         .first()
         .map_or_else(Default::default, |&s| c.services[s].name.span);

@@ -6,7 +6,7 @@
 use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic};
 
-use crate::engine::{Analysis, Stop};
+use crate::dialect::{Analysis, Stop};
 
 /// `genom-check explain incomplete`.
 pub const EXPLANATION: &str = r#"A limit stopped verification before it explored every reachable state:

@@ -166,7 +166,7 @@ mod tests {
     use genom_model::trace::Event;
     use genom_model::{Code, Diagnostic};
 
-    use crate::engine::Limits;
+    use crate::dialect::Limits;
     use crate::genom3::{Machine, analyse_machine};
     use crate::testing::load_genom3;
 

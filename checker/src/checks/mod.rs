@@ -51,7 +51,7 @@ use genom_model::component::Component;
 use genom_model::limits::Watch;
 use genom_model::{Code, Diagnostic};
 
-use crate::engine::Analysis;
+use crate::dialect::Analysis;
 use crate::timed::TimedFacts;
 
 pub use registry::{Applies, Explained, StaticCheck};

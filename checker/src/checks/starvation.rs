@@ -7,7 +7,7 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
 use super::registry::Explained;
-use crate::engine::Analysis;
+use crate::dialect::Analysis;
 
 /// `genom-check explain starvation`.
 pub const EXPLANATION: &str = r#"A pending service instance that can wait forever: it is delayed by an

@@ -5,7 +5,7 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::{Code, Diagnostic, Trace};
 
 use super::registry::Explained;
-use crate::engine::Analysis;
+use crate::dialect::Analysis;
 
 /// `genom-check explain unbounded-interrupt`.
 pub const EXPLANATION: &str = r#"A service instance that, once interrupted, may never end: the inter codels

@@ -178,7 +178,7 @@ pub fn never_run_genom3(owner: &str, state: &str, function: &str, span: Span) ->
 /// Reports codels the codel graph reaches but exploration never ran; skips
 /// dead services (`dead-service` covers them) and services whose
 /// exploration did not finish.
-pub fn dynamic(c: &Component, analysis: &crate::engine::Analysis) -> Vec<Diagnostic> {
+pub fn dynamic(c: &Component, analysis: &crate::dialect::Analysis) -> Vec<Diagnostic> {
     let dead: BTreeSet<_> = analysis.dead.iter().map(|d| d.service).collect();
     let mut out = Vec::new();
     for (sid, service) in c.services.iter() {

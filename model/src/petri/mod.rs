@@ -1,7 +1,7 @@
 //! The component's Petri net: a place/transition net with inhibitor arcs,
 //! read (test) arcs and transition priorities whose reachable *stable*
 //! markings are exactly the configurations of the untimed explorer
-//! (`checker/engine/src/engine/system/`, LANGUAGE.md section 3). The
+//! (`checker/engine/src/dialect/system/`, LANGUAGE.md section 3). The
 //! `genom-translate` crate builds it from the
 //! [`Component`](crate::component::Component) and its
 //! [`Behaviour`](crate::behaviour::Behaviour) (the per-service local machines),

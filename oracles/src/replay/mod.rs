@@ -1,7 +1,7 @@
 //! An independent replay of the execution semantics (LANGUAGE.md section 3)
 //! against a verdict's trace.
 //!
-//! The explorer (`genom_engine::engine`) and this module are two readings
+//! The explorer (`genom_engine::dialect`) and this module are two readings
 //! of the same text; this one is written from the specification alone and
 //! shares no code with the explorer nor with `genom_model::behaviour`: it reads
 //! only the resolved [`Component`] (services, codels and their `next`,

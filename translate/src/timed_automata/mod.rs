@@ -3,7 +3,7 @@
 //! representation that the UPPAAL and TChecker exports print), from the
 //! [`Component`] and its [`Behaviour`] so that it encodes exactly the timed
 //! semantics of the zone engine (`checker/engine/src/timed/model/`, on
-//! top of the untimed semantics of `checker/engine/src/engine/system/`);
+//! top of the untimed semantics of `checker/engine/src/dialect/system/`);
 //! and of a GenoM3 component into its network in GenoM3's timed semantics
 //! (`genom3`). [`BuildNetwork`] gives both as `Network::build` and
 //! `Network::build_genom3`.

@@ -15,8 +15,8 @@ use super::parts::parts;
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use super::trace::describe;
-use crate::engine::explore::{Limits, Model, Stop, explore};
-use crate::engine::store::{Footprint, StateId};
+use crate::kernel::explore::{Limits, Model, Stop, explore};
+use crate::kernel::store::{Footprint, StateId};
 
 /// A cycle of unpaused transitions of one state machine, through no
 /// `async` codel.

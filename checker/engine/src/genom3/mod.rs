@@ -13,7 +13,7 @@
 //! - [`machine`]: the component as the engine reads it;
 //! - [`state`]: a state and its packed form;
 //! - [`parts`]: the independent parts explored one by one;
-//! - [`steps`]: the transitions (an [`crate::engine::explore::Model`]);
+//! - [`steps`]: the transitions (an [`crate::kernel::explore::Model`]);
 //! - [`analysis`]: exploration and the verdicts read off it;
 //! - [`trace`]: traces, in the vocabulary the replay reads;
 //! - [`timed`]: the same rules with GenoM3's task loop in time (ticks,

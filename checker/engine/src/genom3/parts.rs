@@ -14,7 +14,7 @@
 use genom_model::component::{Idx, ServiceId};
 
 use super::machine::{Machine, Role};
-use crate::engine::parts::Links;
+use crate::kernel::parts::Links;
 
 /// The services requested in one exploration.
 #[derive(Debug, Clone, PartialEq, Eq)]

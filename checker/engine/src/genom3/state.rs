@@ -3,7 +3,7 @@
 //! differing only by which slot holds which instance are one state.
 
 use super::machine::Machine;
-use crate::engine::store::bits::{BitReader, BitWriter, bits_for, words_for};
+use crate::kernel::store::bits::{BitReader, BitWriter, bits_for, words_for};
 
 /// The life cycle of the component.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

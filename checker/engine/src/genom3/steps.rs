@@ -10,7 +10,7 @@ use genom_model::component::Idx;
 
 use super::machine::{ControlKind, Machine, Owner, Target};
 use super::state::{G3State, Inst, Layout, Phase, Status, mark};
-use crate::engine::explore::Model;
+use crate::kernel::explore::Model;
 
 /// A transition.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -7,7 +7,7 @@ use genom_model::component::{Component, Idx};
 use super::machine::{Machine, Role};
 use super::state::{G3State, Phase, Status};
 use super::steps::{Engine, G3Action};
-use crate::engine::explore::Model;
+use crate::kernel::explore::Model;
 
 fn load(text: &str) -> Component {
     crate::testing::load_genom3(text)

@@ -13,10 +13,10 @@
 //! after the initialisation prefix, as the explicit engine's are.
 
 use super::{Refusal, Symbolic, SymbolicLimits};
-use crate::engine::analysis::{Analysis, Found, collect_cluster, visit};
-use crate::engine::explore::Stop;
-use crate::engine::store::StateId;
-use crate::engine::system::{Action, Config, System};
+use crate::dialect::analysis::{Analysis, Found, collect_cluster, visit};
+use crate::dialect::system::{Action, Config, System};
+use crate::kernel::explore::Stop;
+use crate::kernel::store::StateId;
 
 /// Explores the cluster `sys` (after initialisation, reached by `prefix`
 /// in the whole component `global`) symbolically within `limits`, and adds

@@ -14,7 +14,7 @@ use genom_model::behaviour::{Effect as Move, IDLE, PosId};
 use genom_model::component::{CodelId, StructureId, ThreadId};
 
 use super::layout::Layout;
-use crate::engine::system::{System, conflict};
+use crate::dialect::system::{System, conflict};
 
 /// What a step does to the configurations its guard selects.
 #[derive(Debug, Clone, Copy)]

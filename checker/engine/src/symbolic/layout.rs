@@ -13,7 +13,7 @@ use biodivine_lib_bdd::{Bdd, BddValuation, BddVariable, BddVariableSet};
 use genom_model::behaviour::{IDLE, PosId};
 use genom_model::component::{CodelId, StructureId, ThreadId};
 
-use crate::engine::system::{Config, System};
+use crate::dialect::system::{Config, System};
 
 /// The variables of one member.
 #[derive(Debug, Clone)]

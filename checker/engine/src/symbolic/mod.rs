@@ -35,8 +35,8 @@ use std::time::{Duration, Instant};
 
 use biodivine_lib_bdd::Bdd;
 
-use crate::engine::explore::{Model, Stop};
-use crate::engine::system::{Action, Config, System};
+use crate::dialect::system::{Action, Config, System};
+use crate::kernel::explore::{Model, Stop};
 
 pub(crate) use analysis::analyse_cluster;
 pub use layout::Refusal;

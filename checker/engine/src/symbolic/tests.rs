@@ -11,9 +11,9 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 
 use super::{Strategy, Symbolic, SymbolicLimits};
-use crate::engine::analysis::{Found, clusters, visit};
-use crate::engine::explore::{Limits, Model, explore};
-use crate::engine::system::{Action, Config, System};
+use crate::dialect::analysis::{Found, clusters, visit};
+use crate::dialect::system::{Action, Config, System};
+use crate::kernel::explore::{Limits, Model, explore};
 
 fn component(cfg: &GeneratorConfig) -> Component {
     let text = generate(cfg);
@@ -82,7 +82,7 @@ fn compare(
 /// `shortest`).
 fn agree(
     sys: &System<'_>,
-    e: &crate::engine::explore::Exploration<Action>,
+    e: &crate::kernel::explore::Exploration<Action>,
     found: &Found,
     v: &super::Verdicts,
     shortest: bool,
@@ -210,7 +210,7 @@ fn a_passed_deadline_stops_with_a_partial_set_and_says_so() {
             ..SymbolicLimits::default()
         };
         let cut = sym.reach(limits);
-        assert_eq!(cut.stopped, Some(crate::engine::explore::Stop::Time));
+        assert_eq!(cut.stopped, Some(crate::kernel::explore::Stop::Time));
         assert!(cut.states() < full.states());
     }
 }

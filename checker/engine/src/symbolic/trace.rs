@@ -10,7 +10,7 @@
 use biodivine_lib_bdd::{Bdd, BddVariable};
 
 use super::{Reach, Symbolic, action_between};
-use crate::engine::system::{Action, Config};
+use crate::dialect::system::{Action, Config};
 
 /// Below this many configurations a layer is searched explicitly.
 const EXPLICIT_BELOW: f64 = 64.0;

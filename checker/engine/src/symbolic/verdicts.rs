@@ -21,7 +21,7 @@ use genom_model::component::{CodelId, ServiceId};
 use genom_model::limits::out_of_time;
 
 use super::{Reach, Symbolic};
-use crate::engine::system::{Action, Config};
+use crate::dialect::system::{Action, Config};
 
 /// A deadlock: services of the cycle, sorted, and a trace to it.
 #[derive(Debug, Clone)]

@@ -16,10 +16,10 @@ use genom_model::trace::{Event, Trace, TraceStep};
 
 use super::model::{TState, TimedSystem, Violation};
 use super::trace::{Target, exceeded_zone, timed_lasso, timed_trace};
-use crate::engine::analysis::{Analysis, Found, Witnesses, collect, finish_dead, visit};
-use crate::engine::explore::{Limits, explore};
-use crate::engine::store::StateId;
-use crate::engine::system::System;
+use crate::dialect::analysis::{Analysis, Found, Witnesses, collect, finish_dead, visit};
+use crate::dialect::system::System;
+use crate::kernel::explore::{Limits, explore};
+use crate::kernel::store::StateId;
 use crate::zones::dbm::lt;
 
 /// A thread overrun with its timed trace.
@@ -108,7 +108,7 @@ pub fn analyse_timed(c: &Component, limits: Limits) -> (Analysis, TimedFacts) {
         // Past the deadline, a cluster is not even built (a large one takes
         // long to set up): it is left unproven.
         if genom_model::limits::out_of_time(budget.deadline) {
-            out.stopped.get_or_insert(crate::engine::Stop::Time);
+            out.stopped.get_or_insert(crate::dialect::Stop::Time);
             out.unproven.extend(members.iter().copied());
             continue;
         }

@@ -22,8 +22,8 @@ use genom_model::trace::{Event, Trace, TraceStep};
 use super::analysis::timed_explorations;
 use super::model::{Forever, TimedSystem};
 use super::trace::{Target, timed_lasso, timed_trace};
-use crate::engine::explore::{Limits, explore};
-use crate::engine::store::StateId;
+use crate::kernel::explore::{Limits, explore};
+use crate::kernel::store::StateId;
 use crate::zones::dbm::{INF, constant, lt};
 
 /// How many states may be tried for a deadline trace before giving up on
@@ -268,7 +268,7 @@ fn incomplete(ts: &TimedSystem<'_>, tracked: &[bool], exact: bool) -> Vec<Servic
 /// state where nothing more has to happen).
 fn late_trace(
     ts: &TimedSystem<'_>,
-    e: &crate::engine::explore::Exploration<super::model::TAction, crate::zones::dbm::Dbm>,
+    e: &crate::kernel::explore::Exploration<super::model::TAction, crate::zones::dbm::Dbm>,
     (i, seen): (usize, &Seen),
     d: i64,
     deadline_ns: u64,

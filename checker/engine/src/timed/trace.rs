@@ -8,8 +8,8 @@
 use genom_model::trace::{Trace, TraceStep};
 
 use super::model::{TAction, TState, TimedSystem};
-use crate::engine::system::Action;
-use crate::engine::witness::local_loop;
+use crate::dialect::system::Action;
+use crate::dialect::witness::local_loop;
 use crate::zones::dbm::{Dbm, lt};
 
 /// How many extra steps the lasso of a looping trace may take per codel

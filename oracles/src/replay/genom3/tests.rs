@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use genom_engine::engine::explore::{Limits, Model};
 use genom_engine::genom3::{Machine, analyse_genom3, steps::Engine, trace::render};
+use genom_engine::kernel::explore::{Limits, Model};
 
 use super::*;
 

@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use genom_model::component::Component;
 use genom_model::trace::{Event, Trace, TraceStep};
 
-use genom_engine::engine::explore::Limits;
 use genom_engine::genom3::machine::Machine;
 use genom_engine::genom3::timed::analysis::analyse_timing;
+use genom_engine::kernel::explore::Limits;
 
 use super::replay_genom3_timed;
 use crate::testing::load_genom3_wcet;

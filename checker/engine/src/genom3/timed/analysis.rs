@@ -14,11 +14,11 @@ use super::groups::groups;
 use super::locks::Locks;
 use super::trace::timed_trace;
 use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
-use crate::engine::explore::{Limits, Stop, explore};
-use crate::engine::store::{Footprint, StateId};
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
 use crate::genom3::trace::describe;
+use crate::kernel::explore::{Limits, Stop, explore};
+use crate::kernel::store::{Footprint, StateId};
 
 /// A task that can overrun for one cause, with its trace.
 #[derive(Debug, Clone)]

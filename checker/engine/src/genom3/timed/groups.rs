@@ -26,8 +26,8 @@
 use genom_model::component::Idx;
 
 use super::locks::Locks;
-use crate::engine::parts::Links;
 use crate::genom3::machine::{ControlKind, Machine};
+use crate::kernel::parts::Links;
 
 /// The tasks and services of one timed exploration.
 #[derive(Debug, Clone, PartialEq, Eq)]

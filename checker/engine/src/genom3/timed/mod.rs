@@ -48,8 +48,8 @@ use genom_model::component::{Idx, ServiceId};
 use super::machine::{Machine, Owner};
 use super::state::{G3State, Inst, Status, mark};
 use super::steps::{Engine, G3Action};
-use crate::engine::explore::Model;
-use crate::engine::store::bits::{BitReader, BitWriter, bits_for, words_for};
+use crate::kernel::explore::Model;
+use crate::kernel::store::bits::{BitReader, BitWriter, bits_for, words_for};
 use crate::timed::clocks::gcd;
 use crate::zones::dbm::Dbm;
 

@@ -37,11 +37,11 @@ use super::groups::groups;
 use super::locks::Locks;
 use super::trace::timed_trace_beyond;
 use super::{TG3State, TimedEngine, unit_ns};
-use crate::engine::explore::{Limits, Stop, explore};
-use crate::engine::store::StateId;
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{G3State, Inst, Status, mark};
 use crate::genom3::steps::G3Action;
+use crate::kernel::explore::{Limits, Stop, explore};
+use crate::kernel::store::StateId;
 use crate::timed::{ServiceResponse, Worst};
 use crate::zones::dbm::{INF, constant};
 
@@ -511,7 +511,7 @@ impl TimedEngine<'_> {
 /// acknowledgment (or into what keeps it alive forever).
 fn late_trace(
     te: &TimedEngine<'_>,
-    e: &crate::engine::explore::Exploration<super::TG3Action, crate::zones::dbm::Dbm>,
+    e: &crate::kernel::explore::Exploration<super::TG3Action, crate::zones::dbm::Dbm>,
     seen: &Seen,
     (x, d, extra): (usize, u64, i64),
     name: &str,

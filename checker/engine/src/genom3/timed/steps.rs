@@ -4,10 +4,10 @@
 //! at once ([`TimedEngine::finish`]).
 
 use super::{CTL, Ctl, TG3Action, TG3State, TimedEngine, Who, idle_running, service_index};
-use crate::engine::explore::Model;
 use crate::genom3::machine::Target;
 use crate::genom3::state::{G3State, Inst, Phase, Status, mark};
 use crate::genom3::steps::{G3Action, insert, remove, total};
+use crate::kernel::explore::Model;
 use crate::zones::dbm::{Dbm, lt};
 
 impl TimedEngine<'_> {

@@ -5,8 +5,8 @@
 use genom_model::trace::{Event, Trace};
 
 use super::analysis::{TimingAnalysis, analyse_timing};
-use crate::engine::explore::Limits;
 use crate::genom3::machine::Machine;
+use crate::kernel::explore::Limits;
 use crate::testing::load_genom3_wcet;
 
 macro_rules! fixture {

@@ -33,9 +33,9 @@ use genom_model::trace::TraceStep;
 pub use response::Forever;
 
 use super::clocks::{ClockRole, Clocks, unit_ns, units};
-use crate::engine::explore::Model;
-use crate::engine::store::Subsumes;
-use crate::engine::system::{Action, Config, System, conflict};
+use crate::dialect::system::{Action, Config, System, conflict};
+use crate::kernel::explore::Model;
+use crate::kernel::store::Subsumes;
 use crate::zones::dbm::Dbm;
 
 impl Subsumes for Dbm {

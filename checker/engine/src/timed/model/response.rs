@@ -8,7 +8,7 @@
 use genom_model::behaviour::IDLE;
 
 use super::{Change, TState, TimedSystem};
-use crate::engine::system::Config;
+use crate::dialect::system::Config;
 use crate::timed::clocks::ClockRole;
 
 /// Why an instance may never reply, from a state.

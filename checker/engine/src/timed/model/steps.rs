@@ -8,8 +8,8 @@ use genom_model::kinds::ServiceKind;
 use genom_model::trace::TraceStep;
 
 use super::{Change, TAction, TState, TimedSystem, Violation};
-use crate::engine::explore::Model;
-use crate::engine::system::{Action, Config, System, conflict};
+use crate::dialect::system::{Action, Config, System, conflict};
+use crate::kernel::explore::Model;
 use crate::zones::dbm::{Dbm, lt};
 
 impl<'a> TimedSystem<'a> {

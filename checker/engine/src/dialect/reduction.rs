@@ -52,9 +52,9 @@ use std::cell::RefCell;
 
 use genom_model::behaviour::{Effect, IDLE};
 
-use super::explore::Limits;
 use super::pending::pending_cycle;
 use super::system::{Action, Config, Reduce, System, conflict};
+use crate::kernel::explore::Limits;
 use tables::{Set, Tables, bit, members};
 
 /// The partial-order reduction of one system: its static tables and the
@@ -189,7 +189,7 @@ impl System<'_> {
     /// facts its states show, so that [`Model::finished`] ends the
     /// exploration once all are found (see [`super::compose`]).
     ///
-    /// [`Model::finished`]: super::explore::Model::finished
+    /// [`Model::finished`]: crate::kernel::explore::Model::finished
     #[must_use]
     pub fn with_fact_tracking(self) -> Self {
         let r = Reduction::new(&self, false);
@@ -642,8 +642,8 @@ mod tests {
     use genom_model::behaviour::Behaviour;
     use genom_model::component::ServiceId;
 
-    use crate::engine::explore::{Limits, explore};
-    use crate::engine::system::System;
+    use crate::dialect::system::System;
+    use crate::kernel::explore::{Limits, explore};
     use crate::testing::check;
 
     /// Two looping services on threads of their own, sharing no data, and a

@@ -13,10 +13,10 @@ use genom_model::trace::{Event, Trace, TraceStep};
 
 pub use super::clusters::clusters;
 use super::compose::{self, Composed, Env, Step};
-use super::explore::{Exploration, Limits, Stop, explore};
-use super::store::{StateId, Subsumes};
 use super::system::{Action, Config, System};
 use super::witness::replay;
+use crate::kernel::explore::{Exploration, Limits, Stop, explore};
+use crate::kernel::store::{StateId, Subsumes};
 
 mod visit;
 pub(crate) use visit::{Found, visit};

@@ -5,7 +5,7 @@
 use genom_model::component::CodelId;
 
 use super::{Action, Config, System};
-use crate::engine::explore::Model;
+use crate::kernel::explore::Model;
 
 impl Model for System<'_> {
     type State = Config;

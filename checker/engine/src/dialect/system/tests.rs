@@ -10,7 +10,7 @@ use genom_model::component::{CodelId, Component, ServiceId};
 
 use super::locks::Who;
 use super::{Config, System, conflict};
-use crate::engine::explore::{Limits, Model, explore};
+use crate::kernel::explore::{Limits, Model, explore};
 use crate::testing::generated;
 
 /// Generated components with watchdogs, self-stops, dense rules and

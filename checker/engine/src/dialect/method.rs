@@ -24,8 +24,8 @@ use super::analysis::{
     pre_init,
 };
 use super::clusters::clusters;
-use super::explore::{Limits, Stop};
 use super::system::System;
+use crate::kernel::explore::{Limits, Stop};
 use crate::symbolic::{Strategy, SymbolicLimits};
 
 /// How the clusters are explored (every method gives the same verdicts).

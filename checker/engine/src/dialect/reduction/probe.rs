@@ -8,10 +8,10 @@
 //! interleaving of every service). Probes only give facts without a trace.
 
 use super::tables::{Set, bit, members};
-use crate::engine::explore::{Limits, Model, explore};
-use crate::engine::store::StateId;
-pub use crate::engine::system::Probed;
-use crate::engine::system::{Action, Config, System};
+pub use crate::dialect::system::Probed;
+use crate::dialect::system::{Action, Config, System};
+use crate::kernel::explore::{Limits, Model, explore};
+use crate::kernel::store::StateId;
 
 /// States a probe of one member stores at most.
 pub const PROBE_STATES: usize = 20_000;

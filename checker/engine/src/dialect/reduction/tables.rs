@@ -9,7 +9,7 @@
 use genom_model::behaviour::{Effect, Position};
 use genom_model::component::CodelId;
 
-use crate::engine::system::{System, conflict};
+use crate::dialect::system::{System, conflict};
 
 /// A set of member indices.
 pub(super) type Set = u64;

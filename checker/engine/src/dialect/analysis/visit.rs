@@ -10,8 +10,8 @@ use genom_model::behaviour::IDLE;
 use genom_model::component::{CodelId, ServiceId};
 
 use super::super::pending::{cycle_services, pending_cycle, pending_cycle_bits};
-use super::super::store::StateId;
 use super::super::system::{Config, System};
+use crate::kernel::store::StateId;
 
 /// Witnesses found in one exploration, by state id.
 #[derive(Default)]

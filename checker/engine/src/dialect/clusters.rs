@@ -4,7 +4,7 @@
 
 use genom_model::component::{Component, Idx, ServiceId};
 
-use super::parts::Links;
+use crate::kernel::parts::Links;
 
 /// The clusters: connected components of the `stops`/`delays`/`forbids`
 /// relation, each sorted, in order of their first service.

@@ -1,6 +1,6 @@
 //! The untimed execution semantics of LANGUAGE.md section 3 over a set of
 //! *member* services (the whole component, or one independent cluster of
-//! it), as a [`Model`](super::explore::Model) for the explorer.
+//! it), as a [`Model`](crate::kernel::explore::Model) for the explorer.
 //!
 //! A configuration holds, per member, the position of its main instance
 //! (see [`genom_model::behaviour`]) and its pending instance, if any, with
@@ -180,7 +180,7 @@ pub trait Reduce: std::fmt::Debug {
     fn note(&self, _sys: &System<'_>, _cfg: &Config) {}
     /// Runs the reduction's probes (default: none), which find facts
     /// without a trace before the search.
-    fn probe(&self, _sys: &System<'_>, _limits: crate::engine::explore::Limits) -> Option<Probed> {
+    fn probe(&self, _sys: &System<'_>, _limits: crate::kernel::explore::Limits) -> Option<Probed> {
         None
     }
 }
@@ -287,8 +287,8 @@ impl<'a> System<'a> {
     }
 
     /// Runs the reduction's probes, if any (see
-    /// [`crate::engine::reduction::probe`]).
-    pub fn probe(&self, limits: crate::engine::explore::Limits) -> Option<Probed> {
+    /// [`crate::dialect::reduction::probe`]).
+    pub fn probe(&self, limits: crate::kernel::explore::Limits) -> Option<Probed> {
         self.reduction.as_ref().and_then(|r| r.probe(self, limits))
     }
 

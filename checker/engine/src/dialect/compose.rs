@@ -32,9 +32,9 @@ use genom_model::component::{Component, ServiceId};
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
 
-use super::explore::{Exploration, Model};
-use super::store::{StateId, Store};
 use super::system::{Action, Config, System};
+use crate::kernel::explore::{Exploration, Model};
+use crate::kernel::store::{StateId, Store};
 
 /// The parts of a cluster (sorted services each), upstream first.
 pub fn parts(c: &Component, cluster: &[ServiceId]) -> Vec<Vec<ServiceId>> {
@@ -665,7 +665,7 @@ mod tests {
     use genom_model::behaviour::Behaviour;
 
     use super::*;
-    use crate::engine::explore::{Limits, explore};
+    use crate::kernel::explore::{Limits, explore};
     use crate::testing::{HEADER, check};
 
     fn component(body: &str) -> Component {

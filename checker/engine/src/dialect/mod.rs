@@ -1,4 +1,5 @@
-//! The behavioural engine: exhaustive exploration of the component's
+//! The LANGUAGE.md behavioural engine (on the [`crate::kernel`]):
+//! exhaustive exploration of the component's
 //! untimed semantics and the properties read off the reachable states
 //! (deadlock, starvation, unbounded interrupts, codel reachability, services
 //! that start).
@@ -19,18 +20,15 @@
 pub mod analysis;
 mod clusters;
 pub mod compose;
-pub mod explore;
 pub mod method;
-pub mod parts;
 mod pending;
 pub mod reduction;
-pub mod store;
 pub mod system;
 pub(crate) mod witness;
 
 #[cfg(test)]
 mod speed_tests;
 
+pub use crate::kernel::{Limits, Stop};
 pub use analysis::{Analysis, Blocked, Decided};
-pub use explore::{Limits, Stop};
 pub use method::{Method, analyse, analyse_using, analyse_with};

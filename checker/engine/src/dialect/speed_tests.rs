@@ -12,10 +12,10 @@ use genom_model::behaviour::{Behaviour, IDLE};
 use genom_model::component::{CodelId, Component, ServiceId};
 
 use super::analysis::{Found, visit};
-use super::explore::{Limits, explore};
 use super::pending::{pending_cycle_any, pending_cycle_small};
-use super::store::StateId;
 use super::system::{Config, System};
+use crate::kernel::explore::{Limits, explore};
+use crate::kernel::store::StateId;
 use crate::testing::{check, generated};
 
 /// A generated component: seed, services, codels per service, threads
