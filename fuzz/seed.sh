@@ -29,9 +29,9 @@ for target in parse check; do
 done
 corpus=${GENOM3_CORPUS:-$root/../shared/corpus/genom3}
 if [ -d "$corpus" ]; then
-    copy genom3 "$corpus" "$root/parser/genom3/tests/fixtures"
+    copy genom3 "$corpus" "$root/genom3-frontend/tests/fixtures"
 else
-    copy genom3 "$root/parser/genom3/tests/fixtures"
+    copy genom3 "$root/genom3-frontend/tests/fixtures"
 fi
 mkdir -p "$here/corpus/generated"
 

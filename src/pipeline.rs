@@ -6,10 +6,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use genom_genom3::Genom3Frontend;
 use genom_model::Dialect;
 use genom_model::frontend::{Frontend, Input, Loaded, Refused};
 use genom_parser::{FsLoader, GenFrontend, LoadError, Loader};
+use genom3_frontend::Genom3Frontend;
 
 pub use genom_checker::CheckOptions;
 

@@ -293,9 +293,9 @@ mod with_smt {
             .expect("binary")
             .args([
                 "budget",
-                "parser/genom3/tests/fixtures/valid/demo.gen",
+                "genom3-frontend/tests/fixtures/valid/demo.gen",
                 "--wcet",
-                "parser/genom3/tests/fixtures/valid/demo.wcet",
+                "genom3-frontend/tests/fixtures/valid/demo.wcet",
             ])
             .output()
             .expect("runs");

@@ -69,7 +69,7 @@ fn github_annotations_point_into_included_files_and_genom3_components() {
         "--format",
         "github",
         "--static-only",
-        "parser/genom3/tests/fixtures/valid/demo.gen",
+        "genom3-frontend/tests/fixtures/valid/demo.gen",
     ]);
     assert_eq!(status, 0, "{out}");
     snapshot("github_genom3", &out);

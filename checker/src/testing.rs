@@ -99,5 +99,5 @@ pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; 
 /// Loads GenoM3 text as `t.gen` (no include path from the environment);
 /// panics on any error, as a test snippet must be valid.
 pub fn load_genom3(text: &str) -> Component {
-    genom_genom3::load_clean(text, None).unwrap_or_else(|e| panic!("{e}"))
+    genom3_frontend::load_clean(text, None).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use genom_check::CheckOptions;
 use genom_check_fuzz::{PATH, assert_spans, render};
-use genom_genom3::MemoryLoader;
+use genom3_frontend::MemoryLoader;
 use libfuzzer_sys::fuzz_target;
 
 fn loader() -> MemoryLoader {
@@ -37,7 +37,7 @@ fn loader() -> MemoryLoader {
 }
 
 fuzz_target!(|text: &str| {
-    let out = genom_genom3::load_with(Path::new(PATH), text.to_owned(), &[], &loader());
+    let out = genom3_frontend::load_with(Path::new(PATH), text.to_owned(), &[], &loader());
     assert_spans(&out.sources, &out.diagnostics);
     let complete = out.is_complete();
     let has_component = out.component.is_some();

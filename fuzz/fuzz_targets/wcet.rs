@@ -1,7 +1,7 @@
 //! Fuzz target `wcet`: the GenoM3 WCET side file (`OWNER.STATE DURATION`
 //! lines, `genom-check --wcet`) on arbitrary UTF-8 text, read against one
 //! fixed small GenoM3 component through the calls the CLI makes
-//! (`genom_genom3::add_wcet_file`, then the static checks, then, when no
+//! (`genom3_frontend::add_wcet_file`, then the static checks, then, when no
 //! error but `codel-overrun` is left, the GenoM3 engines with the timed
 //! one, under small limits). It must never panic, every label must point
 //! inside a loaded file (the WCET file included), and both renderers must
@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use genom_check::CheckOptions;
 use genom_check_fuzz::{PATH, assert_spans, render};
-use genom_genom3::{Genom3Return, MemoryLoader};
+use genom3_frontend::{Genom3Return, MemoryLoader};
 use genom_model::{Code, Severity};
 use libfuzzer_sys::fuzz_target;
 
@@ -47,7 +47,7 @@ const COMPONENT: &str = "component w {
 fn component() -> &'static Genom3Return {
     static LOADED: OnceLock<Genom3Return> = OnceLock::new();
     LOADED.get_or_init(|| {
-        let out = genom_genom3::load_with(
+        let out = genom3_frontend::load_with(
             Path::new(PATH),
             COMPONENT.to_owned(),
             &[],
@@ -75,7 +75,7 @@ fuzz_target!(|text: &str| {
         diagnostics: base.diagnostics.clone(),
         ..Genom3Return::default()
     };
-    genom_genom3::add_wcet_file(&mut out, Path::new("fuzz.wcet"), text.to_owned());
+    genom3_frontend::add_wcet_file(&mut out, Path::new("fuzz.wcet"), text.to_owned());
     assert_spans(&out.sources, &out.diagnostics);
     let options = CheckOptions::new()
         .max_states(20_000)

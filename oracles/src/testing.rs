@@ -28,5 +28,5 @@ pub fn load_genom3_wcet(text: &str, wcet: &str) -> Component {
 }
 
 fn load(text: &str, wcet: Option<&str>) -> Component {
-    genom_genom3::load_clean(text, wcet).unwrap_or_else(|e| panic!("{e}"))
+    genom3_frontend::load_clean(text, wcet).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use serde_json::Value;
 
-const FIXTURES: &str = "parser/genom3/tests/fixtures";
+const FIXTURES: &str = "genom3-frontend/tests/fixtures";
 const STUBS: &str = "tests/fixtures/genom3/include";
 
 fn genom_check() -> Command {
@@ -60,8 +60,8 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
-const DEMO: &str = "parser/genom3/tests/fixtures/valid/demo.gen";
-const DEMO_WCET: &str = "parser/genom3/tests/fixtures/valid/demo.wcet";
+const DEMO: &str = "genom3-frontend/tests/fixtures/valid/demo.gen";
+const DEMO_WCET: &str = "genom3-frontend/tests/fixtures/valid/demo.wcet";
 
 #[test]
 fn a_genom3_file_is_recognised_and_its_static_checks_run() {

@@ -11,8 +11,8 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
-use genom_genom3::Genom3Options;
 use genom_model::Code;
+use genom3_frontend::Genom3Options;
 use serde_json::Value;
 
 const STUBS: &str = "tests/fixtures/genom3/include";
@@ -95,7 +95,7 @@ fn the_corpus_wcet_files_give_every_codel_a_wcet() {
             wcet_file: Some(wcet.clone()),
             ..Genom3Options::default()
         };
-        let out = genom_genom3::load(&path, &options).unwrap();
+        let out = genom3_frontend::load(&path, &options).unwrap();
         assert!(out.is_complete(), "{}", path.display());
         assert!(
             !out.diagnostics.iter().any(|d| d.code == Code::BadWcet),

@@ -25,8 +25,8 @@ use genom_engine::genom3::timed::analysis::analyse_timing;
 use genom_engine::genom3::{Machine, analyse_machine};
 use genom_engine::kernel::explore::Limits;
 use genom_generate::{Genom3Config, generate_genom3};
-use genom_genom3::Genom3Options;
 use genom_model::component::Component;
+use genom3_frontend::Genom3Options;
 
 /// The states a case explores at most.
 const MAX_STATES: usize = 300_000;
@@ -56,7 +56,7 @@ fn generated(
         ..Genom3Config::new(seed)
     };
     let g = generate_genom3(&cfg);
-    genom_genom3::load_clean(&g.r#gen, g.wcet.as_deref()).expect("a generated component loads")
+    genom3_frontend::load_clean(&g.r#gen, g.wcet.as_deref()).expect("a generated component loads")
 }
 
 /// A corpus component with its WCET file (when it has one), when the
@@ -73,7 +73,7 @@ fn corpus(name: &str, folder: &str) -> Option<Component> {
         use_env_include_path: false,
         ..Genom3Options::default()
     };
-    genom_genom3::load(&file, &options).ok()?.component
+    genom3_frontend::load(&file, &options).ok()?.component
 }
 
 #[allow(clippy::cast_precision_loss)]

@@ -191,7 +191,7 @@ mod watch_tests {
   activity b() { task t; interrupts a; codel<start> h() yield ether; };
 };
 ";
-        let c = genom_genom3::load_clean(text, None).unwrap_or_default();
+        let c = genom3_frontend::load_clean(text, None).unwrap_or_default();
         assert_eq!(c.dialect(), genom_model::Dialect::Genom3);
         assert!(!missing_on_inter::check(&c).is_empty(), "the check fires");
         let found = run(&c, &Watch::unlimited());

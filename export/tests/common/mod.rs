@@ -9,9 +9,9 @@ use std::time::Instant;
 
 use genom_checker::{CheckOptions, Checked};
 use genom_export::{ExportInput, Format, Verification};
-use genom_genom3::Genom3Frontend;
 use genom_model::frontend::{Frontend, Input};
 use genom_parser::{FsLoader, GenFrontend, Loader};
+use genom3_frontend::Genom3Frontend;
 
 /// What the whole check of a file found.
 pub type CheckResult = Checked;

@@ -2,7 +2,7 @@
 //! state machines (permanent task codels), `pause::` and `async`, service
 //! ordering (`before`/`after`), locals, exceptions, remotes, and the
 //! component's GenoM3 properties. Filled by the GenoM3 front end
-//! (`genom-genom3`) in [`super::Component::genom3`]; `None` for a
+//! (`genom3-frontend`) in [`super::Component::genom3`]; `None` for a
 //! LANGUAGE.md component, so nothing else changes for those.
 //!
 //! Mapping used by the front end (so that the engines read GenoM3 through

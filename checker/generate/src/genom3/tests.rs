@@ -131,7 +131,7 @@ fn the_requested_structure_is_there() {
 /// The front-end loads generated components with no error diagnostic.
 #[test]
 fn the_genom3_front_end_loads_them() {
-    use genom_genom3::{Genom3Options, load_text};
+    use genom3_frontend::{Genom3Options, load_text};
     use std::path::Path;
     for seed in 0..100 {
         let c = sample(seed);
@@ -142,7 +142,7 @@ fn the_genom3_front_end_loads_them() {
         )
         .expect("loads");
         if let Some(w) = &c.wcet {
-            genom_genom3::add_wcet_file(&mut out, Path::new("gen.wcet"), w.clone());
+            genom3_frontend::add_wcet_file(&mut out, Path::new("gen.wcet"), w.clone());
         }
         let errors: Vec<String> = out
             .diagnostics

@@ -104,17 +104,17 @@ fn every_fixture_overrun_replays() {
 fn demo() -> Component {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../parser/genom3/tests/fixtures/valid/"
+        "/../genom3-frontend/tests/fixtures/valid/"
     );
     let path = Path::new(dir).join("demo.gen");
     let text = std::fs::read_to_string(&path).unwrap();
     let wcet = std::fs::read_to_string(path.with_extension("wcet")).unwrap();
-    let options = genom_genom3::Genom3Options {
+    let options = genom3_frontend::Genom3Options {
         use_env_include_path: false,
-        ..genom_genom3::Genom3Options::default()
+        ..genom3_frontend::Genom3Options::default()
     };
-    let mut out = genom_genom3::load_text(&path, text, &options).unwrap();
-    genom_genom3::add_wcet_file(&mut out, &path.with_extension("wcet"), wcet);
+    let mut out = genom3_frontend::load_text(&path, text, &options).unwrap();
+    genom3_frontend::add_wcet_file(&mut out, &path.with_extension("wcet"), wcet);
     let errors = out
         .diagnostics
         .iter()
