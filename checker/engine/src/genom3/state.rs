@@ -62,6 +62,29 @@ pub enum Status {
     Stop,
 }
 
+impl Status {
+    /// Its code in a packed slot (1–4; 0 is an empty slot).
+    fn code(self) -> u16 {
+        match self {
+            Status::Delayed => 1,
+            Status::Ready => 2,
+            Status::Run => 3,
+            Status::Stop => 4,
+        }
+    }
+
+    /// The status of a code (`None`: an empty slot).
+    fn from_code(c: u16) -> Option<Status> {
+        match c {
+            1 => Some(Status::Delayed),
+            2 => Some(Status::Ready),
+            3 => Some(Status::Run),
+            4 => Some(Status::Stop),
+            _ => None,
+        }
+    }
+}
+
 /// Timing marks of an instance (always 0 in the untimed engine).
 pub mod mark {
     /// It runs a codel in its task's current sweep and has not yet.
@@ -107,26 +130,13 @@ impl Inst {
 
     /// The packed form; 0 is an empty slot.
     pub fn pack(self) -> u16 {
-        let s = match self.status {
-            Status::Delayed => 1,
-            Status::Ready => 2,
-            Status::Run => 3,
-            Status::Stop => 4,
-        };
-        s | (u16::from(self.state) << 3) | (u16::from(self.mark & 0x1f) << 11)
+        self.status.code() | (u16::from(self.state) << 3) | (u16::from(self.mark & 0x1f) << 11)
     }
 
     /// The instance of a packed slot (`None` when empty).
     pub fn unpack(v: u16) -> Option<Inst> {
-        let status = match v & 7 {
-            1 => Status::Delayed,
-            2 => Status::Ready,
-            3 => Status::Run,
-            4 => Status::Stop,
-            _ => return None,
-        };
         Some(Inst {
-            status,
+            status: Status::from_code(v & 7)?,
             state: ((v >> 3) & 0xff) as u8,
             mark: (v >> 11) as u8,
         })
@@ -265,13 +275,7 @@ impl Layout {
                 .flat_map(|v| (0..self.slots).map(move |i| v.get(i).copied())),
         );
         for (i, b) in insts.zip(self.slot_bits()) {
-            let status = i.map_or(0, |i| match i.status {
-                Status::Delayed => 1,
-                Status::Ready => 2,
-                Status::Run => 3,
-                Status::Stop => 4,
-            });
-            w.put(status, STATUS_BITS);
+            w.put(i.map_or(0, |i| u64::from(i.status.code())), STATUS_BITS);
             w.put(i.map_or(0, |i| u64::from(i.state)), b);
             w.put(i.map_or(0, |i| u64::from(i.mark & 0x1f)), MARK_BITS);
         }
