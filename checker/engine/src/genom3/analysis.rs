@@ -15,7 +15,7 @@ use super::parts::parts;
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use super::trace::describe;
-use crate::kernel::explore::{Limits, Model, Stop, explore};
+use crate::kernel::explore::{Found, Limits, Model, Stop, explore_until};
 use crate::kernel::store::{Footprint, StateId};
 
 /// A cycle of unpaused transitions of one state machine, through no
@@ -93,6 +93,13 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
 
 /// [`analyse_genom3`] of a machine already read.
 pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
+    analyse_machine_with(m, limits, true)
+}
+
+/// [`analyse_machine`], with or without the early stop of each part once
+/// every fact it can show is found ([`Targets`]; without, for tests that
+/// compare).
+pub(crate) fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3Analysis {
     let c = m.c;
     let whole = Engine::new(m.clone());
     let cycles = unpaused_cycles(&whole.m);
@@ -110,33 +117,45 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
         );
         let mut entered: BTreeMap<usize, (StateId, Owner, u8)> = BTreeMap::new();
         let mut booted: Option<StateId> = None;
-        let exploration = explore(&engine, limits, |id, s: &G3State| {
+        let mut open = Targets::new(&engine.m, &part, &cycles);
+        let exploration = explore_until(&engine, limits, |id, s: &G3State| {
             for (w, d) in done.iter_mut().zip(&s.done) {
                 *w |= d;
             }
             if perms && booted.is_none() && s.phase == Phase::Run {
                 booted = Some(id);
+                open.boot = false;
             }
             for a in ready(s) {
                 let act = &engine.m.activities[a];
                 out.started.insert(act.service);
+                open.started.remove(&act.service);
                 if let Some(st) = act.fsm.start {
                     out.reached.insert((Owner::Activity(a), st));
+                    open.reached.remove(&(Owner::Activity(a), st));
                 }
             }
             for (owner, i) in running(s) {
                 out.reached.insert((owner, i.state));
+                open.reached.remove(&(owner, i.state));
                 if !may_run(s, owner) {
                     continue;
                 }
                 if let Owner::Activity(a) = owner {
                     out.started.insert(engine.m.activities[a].service);
+                    open.started.remove(&engine.m.activities[a].service);
                 }
                 for (k, cy) in cycles.iter().enumerate() {
                     if cy.owner == owner && cy.states.contains(&i.state) {
                         entered.entry(k).or_insert((id, owner, i.state));
+                        open.cycles.remove(&k);
                     }
                 }
+            }
+            if early {
+                open.found(&engine)
+            } else {
+                Found::Open
             }
         });
         for (w, d) in done.iter_mut().zip(engine.completions_seen()) {
@@ -181,6 +200,97 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
     out
+}
+
+/// The facts one part can show at most, less those found so far: once none
+/// is left, exploring further changes nothing the analysis reads (every
+/// fact is a state or a step some exploration shows, and the first one
+/// found, breadth-first, is the one reported), so the exploration stops and
+/// counts as complete (the kernel's early stop, [`Found::All`]).
+struct Targets {
+    /// Activities' services never seen started.
+    started: BTreeSet<ServiceId>,
+    /// Codel states never seen running or about to run.
+    reached: BTreeSet<(Owner, u8)>,
+    /// Unpaused cycles never seen entered.
+    cycles: BTreeSet<usize>,
+    /// The boot (the permanent activities' part) not seen ended.
+    boot: bool,
+    /// The services whose completion was never seen, as bits.
+    completions: Vec<u64>,
+    /// Visits since the completions were last compared.
+    visits: u32,
+}
+
+impl Targets {
+    /// Every fact the part of `m` explores could show.
+    fn new(m: &Machine<'_>, part: &super::parts::Part, cycles: &[Cycle]) -> Self {
+        let mut owners: Vec<Owner> = (0..m.activities.len())
+            .filter(|&a| part.acts[a])
+            .map(Owner::Activity)
+            .collect();
+        if part.perms {
+            owners.extend(
+                (0..m.tasks.len())
+                    .filter(|&t| m.tasks[t].perm.is_some())
+                    .map(Owner::Task),
+            );
+        }
+        let services = (0..m.activities.len())
+            .filter(|&a| part.acts[a])
+            .map(|a| m.activities[a].service)
+            .chain(
+                (0..m.controls.len())
+                    .filter(|&k| part.ctls[k])
+                    .map(|k| m.controls[k].service),
+            );
+        let mut completions = vec![0u64; m.c.services.len().div_ceil(64).max(1)];
+        for sid in services {
+            completions[sid.index() / 64] |= 1 << (sid.index() % 64);
+        }
+        Targets {
+            started: owners
+                .iter()
+                .filter_map(|&o| match o {
+                    Owner::Activity(a) => Some(m.activities[a].service),
+                    Owner::Task(_) => None,
+                })
+                .collect(),
+            reached: owners
+                .iter()
+                .flat_map(|&o| (0..m.fsm(o).states.len()).map(move |k| (o, k as u8)))
+                .collect(),
+            cycles: (0..cycles.len())
+                .filter(|&k| owners.contains(&cycles[k].owner))
+                .collect(),
+            boot: part.perms,
+            completions,
+            visits: 0,
+        }
+    }
+
+    /// Whether every fact has been found: the states' facts, then (every
+    /// 256 visits, as they are read off the steps fired) the completions.
+    fn found(&mut self, engine: &Engine<'_>) -> Found {
+        if self.boot
+            || !self.started.is_empty()
+            || !self.reached.is_empty()
+            || !self.cycles.is_empty()
+        {
+            return Found::Open;
+        }
+        self.visits += 1;
+        if self.visits % 256 != 1 {
+            return Found::Open;
+        }
+        let seen = engine.completions_seen();
+        let all = self
+            .completions
+            .iter()
+            .zip(&seen)
+            .all(|(want, got)| want & !got == 0);
+        if all { Found::All } else { Found::Open }
+    }
 }
 
 /// Whether `owner` may run its codel in `s`: during the boot, a task's

@@ -171,3 +171,41 @@ fn a_codel_exception_names_the_exceptions_it_stands_for() {
         "{perm:?}"
     );
 }
+
+#[test]
+fn the_early_stop_changes_no_fact_and_no_trace() {
+    // Generated untimed components: with and without stopping each part
+    // once every fact it can show is found, the same services start and
+    // complete, the same codels are reached, the same livelocks are found
+    // with the same traces, and the boot is the same path.
+    let mut stopped_early = 0;
+    for seed in 0..80 {
+        let mut cfg = genom_generate::Genom3Config::small(seed);
+        cfg.timed = false;
+        let g = genom_generate::generate_genom3(&cfg);
+        let c = crate::testing::load_genom3(&g.r#gen);
+        let m = Machine::new(&c, 1).expect("GenoM3");
+        let limits = crate::kernel::explore::Limits {
+            max_states: 200_000,
+            ..Default::default()
+        };
+        let fast = super::analysis::analyse_machine_with(&m, limits, true);
+        let full = super::analysis::analyse_machine_with(&m, limits, false);
+        if full.stopped.is_some() {
+            continue;
+        }
+        assert!(fast.stopped.is_none(), "seed {seed}");
+        assert!(fast.states <= full.states, "seed {seed}");
+        stopped_early += usize::from(fast.states < full.states);
+        assert_eq!(fast.started, full.started, "seed {seed}");
+        assert_eq!(fast.completed, full.completed, "seed {seed}");
+        assert_eq!(fast.reached, full.reached, "seed {seed}");
+        assert_eq!(fast.boot, full.boot, "seed {seed}");
+        let lassos = |a: &super::G3Analysis| format!("{:?}", a.livelocks);
+        assert_eq!(lassos(&fast), lassos(&full), "seed {seed}");
+    }
+    assert!(
+        stopped_early >= 10,
+        "the early stop applied to {stopped_early} components only"
+    );
+}

@@ -149,7 +149,34 @@ pub fn explore<M: Model>(
     limits: Limits,
     mut visit: impl FnMut(StateId, &M::State),
 ) -> Exploration<M::Action, M::Zone> {
+    explore_until(model, limits, |id, s| {
+        visit(id, s);
+        Found::Open
+    })
+}
+
+/// What a visit tells the explorer: whether some fact its caller reads may
+/// still be found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Found {
+    /// Keep exploring.
+    Open,
+    /// Every fact the caller can read has been found: exploring further
+    /// changes nothing it reads, so the exploration stops and counts as
+    /// complete (the early stop; [`Model::finished`] is the same for a
+    /// model that follows its facts itself).
+    All,
+}
+
+/// [`explore`], stopping (complete) as soon as `visit` answers
+/// [`Found::All`].
+pub fn explore_until<M: Model>(
+    model: &M,
+    limits: Limits,
+    mut visit: impl FnMut(StateId, &M::State) -> Found,
+) -> Exploration<M::Action, M::Zone> {
     let started = Instant::now();
+    let mut all_found = false;
     let mut store = Store::new(model.width());
     let mut key = Vec::with_capacity(model.width());
     for s in model.init_states() {
@@ -157,7 +184,7 @@ pub fn explore<M: Model>(
         model.encode(&s, &mut key);
         let (id, new) = store.insert(&key, model.zone(&s), None);
         if new {
-            visit(id, &s);
+            all_found |= visit(id, &s) == Found::All;
         }
     }
     let mut actions = Vec::new();
@@ -174,7 +201,7 @@ pub fn explore<M: Model>(
         if stopped.is_some() {
             break;
         }
-        if model.finished() {
+        if all_found || model.finished() {
             break;
         }
         let id = StateId::try_from(next).unwrap_or(StateId::MAX);
@@ -209,8 +236,8 @@ pub fn explore<M: Model>(
                     key.clear();
                     model.encode(succ, &mut key);
                     let (sid, new) = store.insert(&key, model.zone(succ), Some((id, a)));
-                    if new {
-                        visit(sid, succ);
+                    if new && visit(sid, succ) == Found::All {
+                        break 'expansions;
                     }
                     old_successor |= !new;
                     stopped = check_successor(&store, limits, new, transitions, period);
