@@ -622,6 +622,15 @@ impl<'a> TimedEngine<'a> {
     }
 }
 
+/// Whether a control service's request has no effect but its codels: no
+/// interruption, not a built-in, no `after`/`before` naming it (`tracked`:
+/// the completions some step reads).
+fn inert(ctl: &super::machine::Control, tracked: &[u64]) -> bool {
+    let sid = ctl.service.index();
+    let watched = tracked[sid / 64] >> (sid % 64) & 1 == 1;
+    ctl.kind == super::machine::ControlKind::Plain && ctl.interrupts.is_empty() && !watched
+}
+
 /// For each control service, the first one with the same contended codels
 /// when neither has another effect (no interruption, not a built-in, no
 /// `after`/`before` naming it).
@@ -636,11 +645,7 @@ fn canonical_calls(
         .map(|k| {
             let ctl = &m.controls[k];
             let sid = ctl.service;
-            let watched = tracked[sid.index() / 64] >> (sid.index() % 64) & 1 == 1;
-            let inert = ctl.kind == super::machine::ControlKind::Plain
-                && ctl.interrupts.is_empty()
-                && !watched;
-            if !inert {
+            if !inert(ctl, tracked) {
                 return k as u16;
             }
             let signature: Vec<_> = jobs
@@ -668,17 +673,13 @@ fn quiet_calls(
         .iter()
         .map(|ctl| {
             let sid = ctl.service;
-            let watched = tracked[sid.index() / 64] >> (sid.index() % 64) & 1 == 1;
-            let inert = ctl.kind == super::machine::ControlKind::Plain
-                && ctl.interrupts.is_empty()
-                && !watched;
             let codels = m.control_codels.get(&sid).map_or(&[][..], Vec::as_slice);
             let zero = |&i: &usize| {
                 let key = locks.ctl_key(sid, i);
                 key.is_some_and(|k| locks.wcet_of(k) == Some(0))
                     && codels.get(i).is_some_and(|c| c.codel.is_none())
             };
-            inert
+            inert(ctl, tracked)
                 && jobs
                     .get(&sid)
                     .is_some_and(|v| v.len() == 1 && v.iter().all(zero))
