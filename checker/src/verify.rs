@@ -275,7 +275,7 @@ pub fn verify(
             transitions: analysis.transitions,
             time_ms: 0.0,
             complete: analysis.stopped.is_none(),
-            bytes_per_state: Some(analysis.bytes_per_state),
+            bytes_per_state: Some(analysis.footprint.bytes_per_state),
             decided_by: decisions(c, &analysis, timed),
             assumptions: Vec::new(),
         });

@@ -281,9 +281,8 @@ fn statically_reachable(fsm: &Fsm) -> BTreeSet<u8> {
 
 /// What an unfinished timed exploration leaves unproven, task by task: a
 /// task whose group was explored to the end is decided (not listed); of the
-/// others, one
-/// found overrunning has its traces (other causes may be missing), and one
-/// not found may or may not overrun.
+/// others, one found overrunning has its traces (other causes may be
+/// missing), and one not found may or may not overrun.
 fn unproven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> String {
     let decided: BTreeSet<usize> = timing
         .records

@@ -18,6 +18,9 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+mod common;
+use common::print;
+
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_engine::dialect::analyse_with;
 use genom_engine::dialect::analysis::clusters;
@@ -66,17 +69,6 @@ fn bare(c: &Component, b: &Behaviour) -> (usize, u64, f64, bool) {
     )
 }
 
-#[allow(clippy::cast_precision_loss)]
-fn print(name: &str, states: u64, transitions: u64, elapsed: Duration, bytes: f64, done: bool) {
-    let secs = elapsed.as_secs_f64().max(1e-9);
-    eprintln!(
-        "{name}: {states} states, {transitions} transitions, {:.1} ms, {:.0} states/s, {bytes:.1} B/state{}",
-        secs * 1000.0,
-        states as f64 / secs,
-        if done { "" } else { ", incomplete" }
-    );
-}
-
 fn bench(cr: &mut Criterion) {
     let mut group = cr.benchmark_group("explicit");
     group.sample_size(10);
@@ -95,7 +87,7 @@ fn bench(cr: &mut Criterion) {
             a.states,
             a.transitions,
             started.elapsed(),
-            a.bytes_per_state,
+            a.footprint.bytes_per_state,
             done,
         );
         group.throughput(Throughput::Elements(a.states.max(1)));

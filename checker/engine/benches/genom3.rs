@@ -20,6 +20,9 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+mod common;
+use common::print;
+
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_engine::genom3::timed::analysis::analyse_timing;
 use genom_engine::genom3::{Machine, analyse_machine};
@@ -74,17 +77,6 @@ fn corpus(name: &str, folder: &str) -> Option<Component> {
         ..Genom3Options::default()
     };
     genom3_frontend::load(&file, &options).ok()?.component
-}
-
-#[allow(clippy::cast_precision_loss)]
-fn print(name: &str, (states, transitions, bytes, done): (u64, u64, f64, bool), elapsed: Duration) {
-    let secs = elapsed.as_secs_f64().max(1e-9);
-    eprintln!(
-        "{name}: {states} states, {transitions} transitions, {:.1} ms, {:.0} states/s, {bytes:.1} B/state{}",
-        secs * 1000.0,
-        states as f64 / secs,
-        if done { "" } else { ", incomplete" }
-    );
 }
 
 /// The untimed analysis: states, transitions, bytes per state, complete.
@@ -160,7 +152,15 @@ fn bench(cr: &mut Criterion) {
         let m = Machine::new(c, 1).expect("a GenoM3 component");
         let started = Instant::now();
         let figures = run(&m);
-        print(&format!("{engine}/{id}"), figures, started.elapsed());
+        let (states, transitions, bytes, done) = figures;
+        print(
+            &format!("{engine}/{id}"),
+            states,
+            transitions,
+            started.elapsed(),
+            bytes,
+            done,
+        );
         group.throughput(Throughput::Elements(figures.0.max(1)));
         group.bench_with_input(BenchmarkId::new(*engine, id), &m, |bch, m| {
             bch.iter(|| black_box(run(m).0));

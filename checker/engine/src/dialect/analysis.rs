@@ -16,7 +16,7 @@ use super::compose::{self, Composed, Env, Step};
 use super::system::{Action, Config, System};
 use super::witness::replay;
 use crate::kernel::explore::{Exploration, Limits, Stop, explore};
-use crate::kernel::store::{StateId, Subsumes};
+use crate::kernel::store::{Footprint, StateId, Subsumes};
 
 mod visit;
 pub(crate) use visit::{Found, visit};
@@ -104,9 +104,7 @@ pub struct Analysis {
     pub elapsed: Duration,
     /// Bytes per stored state of the largest exploration (a small one's
     /// fixed overhead per state says nothing about the store).
-    pub bytes_per_state: f64,
-    /// States of that largest exploration.
-    largest: usize,
+    pub footprint: Footprint,
     /// States expanded with a reduced set of actions (partial-order
     /// reduction).
     pub reduced: u64,
@@ -415,10 +413,7 @@ impl Analysis {
         self.states += other.states;
         self.transitions += other.transitions;
         self.elapsed += other.elapsed;
-        if other.largest > self.largest {
-            self.largest = other.largest;
-            self.bytes_per_state = other.bytes_per_state;
-        }
+        self.footprint.join(other.footprint);
         self.reduced += other.reduced;
         self.parts += other.parts;
         self.decided.extend(other.decided);
@@ -439,10 +434,7 @@ impl Analysis {
         self.transitions += e.transitions;
         self.elapsed += e.elapsed;
         self.reduced += e.reduced;
-        if states > self.largest || self.largest == 0 {
-            self.largest = states;
-            self.bytes_per_state = e.store.bytes_per_state();
-        }
+        self.footprint.add(&e.store);
         budget.max_states = budget.max_states.saturating_sub(states).max(1);
         if e.stopped.is_some() {
             self.stopped = self.stopped.or(e.stopped);

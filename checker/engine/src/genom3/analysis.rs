@@ -128,22 +128,18 @@ pub(crate) fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool)
             }
             for a in ready(s) {
                 let act = &engine.m.activities[a];
-                out.started.insert(act.service);
-                open.started.remove(&act.service);
+                open.started(&mut out, act.service);
                 if let Some(st) = act.fsm.start {
-                    out.reached.insert((Owner::Activity(a), st));
-                    open.reached.remove(&(Owner::Activity(a), st));
+                    open.reached(&mut out, (Owner::Activity(a), st));
                 }
             }
             for (owner, i) in running(s) {
-                out.reached.insert((owner, i.state));
-                open.reached.remove(&(owner, i.state));
+                open.reached(&mut out, (owner, i.state));
                 if !may_run(s, owner) {
                     continue;
                 }
                 if let Owner::Activity(a) = owner {
-                    out.started.insert(engine.m.activities[a].service);
-                    open.started.remove(&engine.m.activities[a].service);
+                    open.started(&mut out, engine.m.activities[a].service);
                 }
                 for (k, cy) in cycles.iter().enumerate() {
                     if cy.owner == owner && cy.states.contains(&i.state) {
@@ -218,11 +214,25 @@ struct Targets {
     boot: bool,
     /// The services whose completion was never seen, as bits.
     completions: Vec<u64>,
-    /// Visits since the completions were last compared.
+    /// Visits since every fact but the completions was found (these are
+    /// compared every 256 visits).
     visits: u32,
 }
 
 impl Targets {
+    /// Service `sid` seen started: kept in `out`, no longer awaited.
+    fn started(&mut self, out: &mut G3Analysis, sid: ServiceId) {
+        out.started.insert(sid);
+        self.started.remove(&sid);
+    }
+
+    /// A codel state seen running or about to run: kept in `out`, no longer
+    /// awaited.
+    fn reached(&mut self, out: &mut G3Analysis, state: (Owner, u8)) {
+        out.reached.insert(state);
+        self.reached.remove(&state);
+    }
+
     /// Every fact the part of `m` explores could show.
     fn new(m: &Machine<'_>, part: &super::parts::Part, cycles: &[Cycle]) -> Self {
         let mut owners: Vec<Owner> = (0..m.activities.len())

@@ -199,8 +199,9 @@ pub struct Layout {
     /// activity.
     state_bits: Vec<u32>,
     done_words: usize,
-    /// The completion flags kept, as bits (the others are always clear).
-    tracked: Vec<u64>,
+    /// The completion flags kept, by service index (the others are always
+    /// clear).
+    kept: Vec<usize>,
 }
 
 /// Bits of an instance's status (0: empty slot) and of its marks.
@@ -211,7 +212,7 @@ impl Layout {
     /// The layout of states of `m` with `slots` slots per activity and
     /// `done_words` words of completion flags, of which only `tracked`
     /// are kept.
-    pub fn new(m: &Machine<'_>, slots: usize, done_words: usize, tracked: Vec<u64>) -> Self {
+    pub fn new(m: &Machine<'_>, slots: usize, done_words: usize, tracked: &[u64]) -> Self {
         let states = |n: usize| bits_for(n as u64);
         let state_bits = m
             .tasks
@@ -219,12 +220,15 @@ impl Layout {
             .map(|t| states(t.perm.as_ref().map_or(0, |f| f.states.len())))
             .chain(m.activities.iter().map(|a| states(a.fsm.states.len())))
             .collect();
+        let kept = (0..tracked.len() * 64)
+            .filter(|&s| tracked[s / 64] >> (s % 64) & 1 == 1)
+            .collect();
         Layout {
             tasks: m.tasks.len(),
             slots,
             state_bits,
             done_words,
-            tracked,
+            kept,
         }
     }
 
@@ -234,11 +238,6 @@ impl Layout {
 
     fn booted_bits(&self) -> u32 {
         bits_for(self.tasks as u64 + 1)
-    }
-
-    /// The kept completion flags, by service index.
-    fn kept(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..self.tracked.len() * 64).filter(|&s| self.tracked[s / 64] >> (s % 64) & 1 == 1)
     }
 
     /// Per slot, its state bits: the permanent activities, then `slots`
@@ -258,7 +257,7 @@ impl Layout {
             .map(|b| (STATUS_BITS + b + MARK_BITS) as usize)
             .sum();
         let head = (self.phase_bits() + self.booted_bits()) as usize;
-        words_for(head + self.kept().count() + slots)
+        words_for(head + self.kept.len() + slots)
     }
 
     /// Packs `s`.
@@ -266,7 +265,7 @@ impl Layout {
         let mut w = BitWriter::new(out);
         w.put(s.phase.code(), self.phase_bits());
         w.put(u64::from(s.booted), self.booted_bits());
-        for k in self.kept() {
+        for &k in &self.kept {
             w.flag(s.is_done(k));
         }
         let insts = s.perm.iter().copied().chain(
@@ -288,7 +287,7 @@ impl Layout {
         let phase = Phase::from_code(r.take(self.phase_bits()));
         let booted = u8::try_from(r.take(self.booted_bits())).unwrap_or(u8::MAX);
         let mut done = vec![0; self.done_words];
-        for k in self.kept() {
+        for &k in &self.kept {
             if r.flag() {
                 done[k / 64] |= 1 << (k % 64);
             }
@@ -354,7 +353,7 @@ mod tests {
             slots: 2,
             state_bits: vec![1, 3, 8, 1, 1],
             done_words: 1,
-            tracked: vec![0b111],
+            kept: vec![0, 1, 2],
         };
         let mut w = Vec::new();
         layout.encode(&s, &mut w);
@@ -367,7 +366,7 @@ mod tests {
         assert_eq!(layout.decode(&w), s);
         // A completion flag no step reads is not kept.
         let narrow = Layout {
-            tracked: vec![0b001],
+            kept: vec![0],
             ..layout
         };
         let mut w = Vec::new();

@@ -78,7 +78,7 @@ impl<'a> Engine<'a> {
         let done_words = m.c.services.len().div_ceil(64).max(1);
         let slots = m.slots();
         let tracked = m.completions_read();
-        let layout = Layout::new(&m, slots, done_words, tracked.clone());
+        let layout = Layout::new(&m, slots, done_words, &tracked);
         Engine {
             m,
             done_words,

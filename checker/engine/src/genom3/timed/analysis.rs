@@ -110,7 +110,7 @@ pub(crate) fn analyse_timing_with(
     for group in groups(m, &locks) {
         let mut te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
         if !reduce {
-            te.quiet.fill(false);
+            te.quiet.fill(None);
         }
         out.clocks = out.clocks.max(te.clock_count());
         let (states, complete) = explore_group(&te, limits, &mut out);

@@ -217,11 +217,12 @@ pub struct TimedEngine<'a> {
     /// request does nothing but run its contended codels and another's
     /// codels look the same (then either's run is the other's).
     pub(crate) canon: Vec<u16>,
-    /// Per control service: its request does nothing but run one contended
-    /// control codel that takes no time and throws nothing. When that
-    /// codel could begin at once, the request changes nothing a task
-    /// sees, and it is not explored (see [`TimedEngine::changes_nothing`]).
-    pub(crate) quiet: Vec<bool>,
+    /// Per control service whose request does nothing but run one
+    /// contended control codel that takes no time and throws nothing: that
+    /// codel's key. When it could begin at once, the request changes nothing
+    /// a task sees, and it is not explored (see
+    /// [`TimedEngine::changes_nothing`]).
+    pub(crate) quiet: Vec<Option<usize>>,
     /// The `done` bits that matter: services some `after`/`before` names
     /// (the others are cleared, so that they do not split states).
     tracked: Vec<u64>,
@@ -336,7 +337,6 @@ impl<'a> TimedEngine<'a> {
         })
     }
 
-    /// Words of the encoded resource queue (one entry per thread).
     /// Bit widths of the packed state after the untimed words: a per-task
     /// flag set (`cont`, `ticked`, `late`), the violation, and a queue
     /// entry (a task, the control thread, or none).
@@ -348,8 +348,9 @@ impl<'a> TimedEngine<'a> {
     /// Bits of the packed state after the untimed words.
     fn extra_bits(&self) -> usize {
         let (n, v, q) = self.field_bits();
-        let tasks = self.e.m.tasks.len();
-        3 * n as usize + v as usize + CTL_BITS as usize + (tasks + 1) * q as usize
+        let (n, v, q) = (n as usize, v as usize, q as usize);
+        // The queue has an entry per task and one for the control thread.
+        3 * n + v + CTL_BITS as usize + (n + 1) * q
     }
 
     /// Number of clocks.
@@ -660,29 +661,26 @@ fn canonical_calls(
         .collect()
 }
 
-/// For each control service, whether its request does nothing but run one
+/// For each control service whose request does nothing but run one
 /// contended control codel that takes no time and cannot throw (an
-/// attribute's ids copy, for one).
+/// attribute's ids copy, for one): that codel's key.
 fn quiet_calls(
     m: &Machine<'_>,
     locks: &locks::Locks,
     jobs: &BTreeMap<ServiceId, Vec<usize>>,
     tracked: &[u64],
-) -> Vec<bool> {
+) -> Vec<Option<usize>> {
     m.controls
         .iter()
         .map(|ctl| {
             let sid = ctl.service;
             let codels = m.control_codels.get(&sid).map_or(&[][..], Vec::as_slice);
-            let zero = |&i: &usize| {
-                let key = locks.ctl_key(sid, i);
-                key.is_some_and(|k| locks.wcet_of(k) == Some(0))
-                    && codels.get(i).is_some_and(|c| c.codel.is_none())
+            let &[i] = jobs.get(&sid)?.as_slice() else {
+                return None;
             };
-            inert(ctl, tracked)
-                && jobs
-                    .get(&sid)
-                    .is_some_and(|v| v.len() == 1 && v.iter().all(zero))
+            let key = locks.ctl_key(sid, i)?;
+            let copy = codels.get(i).is_some_and(|c| c.codel.is_none());
+            (inert(ctl, tracked) && copy && locks.wcet_of(key) == Some(0)).then_some(key)
         })
         .collect()
 }

@@ -75,21 +75,17 @@ impl TimedEngine<'_> {
     /// would run and end at this instant. A task's codel due at the same
     /// instant and ordered between them would take a ticket and begin at
     /// that same instant: no delay, no other order of codels than the
-    /// explored ones (docs/genom3-semantics.md 15.5, "Quiet requests"). Not applied while
-    /// response times are measured (the request's own response is read).
+    /// explored ones (docs/genom3-semantics.md 15.5, "Quiet requests").
+    /// Not applied while response times are measured (the request's own
+    /// response is read).
     pub(crate) fn changes_nothing(&self, st: &TG3State, k: usize) -> bool {
-        if !self.quiet[k] || self.ctl_resp.is_some() || !self.resp.is_empty() {
-            return false;
-        }
-        let job = G3Action::Call(k as u16);
-        let Some(key) = self
-            .job_service(job)
-            .and_then(|s| Some((s, *self.jobs.get(&s)?.first()?)))
-            .and_then(|(s, i)| self.locks.ctl_key(s, i))
-        else {
+        let Some(key) = self.quiet[k] else {
             return false;
         };
-        st.queue.is_empty() && self.locks_free(st, None, key)
+        self.ctl_resp.is_none()
+            && self.resp.is_empty()
+            && st.queue.is_empty()
+            && self.locks_free(st, None, key)
     }
 
     /// An aperiodic task asleep with something to start or resume.
