@@ -44,7 +44,7 @@ pub struct Engine<'a> {
     /// Per activity: requested in this exploration.
     acts: Vec<bool>,
     /// Per control service: requested in this exploration.
-    ctls: Vec<bool>,
+    pub(crate) ctls: Vec<bool>,
     /// Per task: whether its permanent activity runs.
     perms: Vec<bool>,
     /// The services whose completion some step reads (`after`/`before`

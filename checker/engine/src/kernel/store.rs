@@ -181,31 +181,59 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             Probe::Found(slot, head) => (slot, head),
             Probe::Vacant(slot) => (slot, NONE),
         };
-        let zid = self.pool.intern(zone);
-        let zone = self.pool.get(zid);
+        // One pass over the chain: a stored zone that includes the new one
+        // makes it old; one the new zone includes needs no expansion and
+        // leaves the chain (what it includes, its coverer includes too), so
+        // chains hold only zones that none of them includes.
+        let mut kept = NONE;
+        let mut last = NONE;
         let mut cur = head;
         while cur != NONE {
-            let other = self.zones.get(cur as usize)[0];
-            if other == zid || zone.subsumed_by(self.pool.get(other)) {
+            let next = self.same.get(cur as usize)[0];
+            let other = self.zone(cur);
+            if zone.subsumed_by(other) {
+                // The chain goes on whole from `cur`.
+                if last == NONE {
+                    kept = cur;
+                } else {
+                    self.set_same(last, cur);
+                }
+                if kept != head {
+                    self.table.set(slot, hash, kept);
+                }
                 return (cur, false);
             }
-            cur = self.same.get(cur as usize)[0];
-        }
-        // The new zone may include stored ones: those need no expansion.
-        let mut cur = head;
-        while cur != NONE {
-            let covered = self.zone(cur).subsumed_by(zone);
-            if let Some(flag) = self.covered.first_mut(cur as usize).filter(|_| covered) {
-                *flag = true;
+            if other.subsumed_by(&zone) {
+                if let Some(flag) = self.covered.first_mut(cur as usize) {
+                    *flag = true;
+                }
+            } else {
+                if last == NONE {
+                    kept = cur;
+                } else {
+                    self.set_same(last, cur);
+                }
+                last = cur;
             }
-            cur = self.same.get(cur as usize)[0];
+            cur = next;
         }
+        if last != NONE {
+            self.set_same(last, NONE);
+        }
+        let zid = self.pool.intern(zone);
         self.table.set(slot, hash, id);
         self.covered.push(false);
-        self.same.push(head);
+        self.same.push(kept);
         self.zones.push(zid);
         self.push(key, parent);
         (id, true)
+    }
+
+    /// Points `id`'s chain link at `next`.
+    fn set_same(&mut self, id: StateId, next: StateId) {
+        if let Some(link) = self.same.first_mut(id as usize) {
+            *link = next;
+        }
     }
 
     /// Appends a new state's words, parent and action.

@@ -263,17 +263,16 @@ impl Dbm {
             }
         };
         let exceeds = |v: i64, k: Option<i64>| k.is_none_or(|k| v > k);
-        let orig = self.m.clone();
-        let get = |i: usize, j: usize| orig[i * n + j];
-        for i in 0..n {
-            for j in 0..n {
-                if i == j {
-                    continue;
-                }
-                let dij = get(i, j);
-                let (li, uj) = (bound_of(l, i), bound_of(u, j));
-                let low_i = -constant(get(0, i));
-                let low_j = -constant(get(0, j));
+        // Row 0 (the lower bounds, read by every other row) is rewritten
+        // last, so the matrix is changed in place.
+        let mut changed = false;
+        for i in (1..n).chain(std::iter::once(0)) {
+            let li = bound_of(l, i);
+            let low_i = -constant(self.get(0, i));
+            for j in (0..n).filter(|&j| j != i) {
+                let dij = self.get(i, j);
+                let uj = bound_of(u, j);
+                let low_j = -constant(self.get(0, j));
                 let b = if (dij != INF && exceeds(constant(dij), li)) || exceeds(low_i, li) {
                     INF
                 } else if exceeds(low_j, uj) {
@@ -285,10 +284,16 @@ impl Dbm {
                 } else {
                     dij
                 };
-                self.set(i, j, b);
+                if b != dij {
+                    self.set(i, j, b);
+                    changed = true;
+                }
             }
         }
-        self.canonicalize();
+        // An unchanged matrix is still canonical.
+        if changed {
+            self.canonicalize();
+        }
     }
 
     /// The same zone with every constant multiplied by `k`.

@@ -109,7 +109,9 @@ pub(crate) fn analyse_timing_with(
     let mut out = TimingAnalysis::default();
     for group in groups(m, &locks) {
         let mut te = TimedEngine::with_locks(m.clone(), &group, locks.clone())?;
-        if !reduce {
+        if reduce {
+            te.dominate_calls();
+        } else {
             te.quiet.fill(None);
         }
         out.clocks = out.clocks.max(te.clock_count());

@@ -305,7 +305,7 @@ impl<'a> TimedEngine<'a> {
                 (sid, kept)
             })
             .collect();
-        let canon = canonical_calls(&m, &locks, &jobs, &tracked);
+        let canon = canonical_calls(&m, &locks, &jobs, &tracked, &group.ctls, false);
         let quiet = quiet_calls(&m, &locks, &jobs, &tracked);
         let e = Engine::part_tasks(
             m,
@@ -335,6 +335,25 @@ impl<'a> TimedEngine<'a> {
             loops: Vec::new(),
             coalesce: false,
         })
+    }
+
+    /// Lets a request stand for those whose runs are among its own (the
+    /// same codels, each with a WCET at least as long), not only for those
+    /// whose runs are the same: for schedulability, where which of them
+    /// ran does not matter, but not for response times, which are each
+    /// service's own.
+    pub fn dominate_calls(&mut self) {
+        let ctls: Vec<bool> = (0..self.e.m.controls.len())
+            .map(|k| self.e.ctls[k])
+            .collect();
+        self.canon = canonical_calls(
+            &self.e.m,
+            &self.locks,
+            &self.jobs,
+            &self.tracked,
+            &ctls,
+            true,
+        );
     }
 
     /// Bit widths of the packed state after the untimed words: a per-task
@@ -387,35 +406,37 @@ impl<'a> TimedEngine<'a> {
     /// The instances of task `t` (its permanent one first), with who owns
     /// each.
     pub fn instances(&self, g: &G3State, t: usize) -> Vec<(Who, Inst)> {
-        let mut out = Vec::new();
-        if let Some(i) = g.perm[t] {
-            out.push((Who::Perm(t as u8), i));
-        }
-        for &a in &self.acts_of[t] {
-            let mut last = None;
-            for &i in &g.inst[a] {
-                if last != Some(i) {
-                    out.push((Who::Act(a as u16), i));
-                    last = Some(i);
-                }
-            }
-        }
-        out
+        self.each_instance(g, t).collect()
+    }
+
+    /// [`TimedEngine::instances`], one by one (no allocation: it is read
+    /// several times per state).
+    pub fn each_instance<'s>(
+        &'s self,
+        g: &'s G3State,
+        t: usize,
+    ) -> impl Iterator<Item = (Who, Inst)> + 's {
+        let perm = g.perm[t].map(|i| (Who::Perm(t as u8), i));
+        let acts = self.acts_of[t].iter().flat_map(move |&a| {
+            let v = &g.inst[a];
+            // Equal instances are one (they are sorted).
+            (0..v.len())
+                .filter(move |&n| n == 0 || v[n - 1] != v[n])
+                .map(move |n| (Who::Act(a as u16), v[n]))
+        });
+        perm.into_iter().chain(acts)
     }
 
     /// The instance of task `t` running a codel, if any.
     pub fn running(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
-        self.instances(g, t)
-            .into_iter()
-            .find(|(_, i)| i.has(mark::BUSY))
+        self.each_instance(g, t).find(|(_, i)| i.has(mark::BUSY))
     }
 
     /// Task `t` has work left in its current wake-up.
     pub fn unfinished(&self, st: &TG3State, t: usize) -> bool {
         st.cont >> t & 1 == 1
             || self
-                .instances(&st.g, t)
-                .iter()
+                .each_instance(&st.g, t)
                 .any(|(_, i)| i.has(mark::BUSY | mark::DUE))
     }
 
@@ -423,9 +444,8 @@ impl<'a> TimedEngine<'a> {
     /// thread) has its locks free: no other thread runs a codel it waits
     /// for.
     pub fn locks_free(&self, st: &TG3State, t: Option<usize>, k: usize) -> bool {
-        self.holders(st, t)
-            .iter()
-            .all(|&(j, _, _)| !self.locks.excludes(k, j))
+        self.each_holder(st, t)
+            .all(|(j, _, _)| !self.locks.excludes(k, j))
     }
 
     /// How thread `th` (in [`TG3State::queue`]'s numbering) may go on with
@@ -448,12 +468,17 @@ impl<'a> TimedEngine<'a> {
     /// The codels some thread may begin now, and the tickets some thread
     /// takes now (time may not pass then).
     pub fn begins(&self, st: &TG3State, out: &mut Vec<TG3Action>) {
+        self.each_begin(st, &mut |a| out.push(a));
+    }
+
+    /// [`TimedEngine::begins`], each given to `emit`.
+    fn each_begin(&self, st: &TG3State, emit: &mut dyn FnMut(TG3Action)) {
         for t in 0..self.e.m.tasks.len() {
             if !self.spawned(&st.g, t) || self.running(&st.g, t).is_some() {
                 continue;
             }
             let queued = st.queue.contains(&(t as u8));
-            for (who, i) in self.instances(&st.g, t) {
+            for (who, i) in self.each_instance(&st.g, t) {
                 if !i.has(mark::DUE) || (queued && !i.has(mark::TICKET)) {
                     continue;
                 }
@@ -461,12 +486,12 @@ impl<'a> TimedEngine<'a> {
                 if self.locks.is_async(k) {
                     // No lock, no ticket (7.2); a queued task was skipped
                     // above (an `async` codel never holds the ticket).
-                    out.push(TG3Action::Begin(who, i.pack()));
+                    emit(TG3Action::Begin(who, i.pack()));
                     continue;
                 }
                 match Self::turn(st, t as u8, self.locks_free(st, Some(t), k)) {
-                    Some(true) => out.push(TG3Action::Begin(who, i.pack())),
-                    Some(false) => out.push(TG3Action::Ticket(who, i.pack())),
+                    Some(true) => emit(TG3Action::Begin(who, i.pack())),
+                    Some(false) => emit(TG3Action::Ticket(who, i.pack())),
                     None => {}
                 }
             }
@@ -476,8 +501,8 @@ impl<'a> TimedEngine<'a> {
         };
         if !c.running {
             match Self::turn(st, CTL, self.locks_free(st, None, k)) {
-                Some(true) => out.push(TG3Action::CtlPhase),
-                Some(false) => out.push(TG3Action::CtlTicket),
+                Some(true) => emit(TG3Action::CtlPhase),
+                Some(false) => emit(TG3Action::CtlTicket),
                 None => {}
             }
         }
@@ -485,9 +510,7 @@ impl<'a> TimedEngine<'a> {
 
     /// The instance task `t` holds its ticket for, if any.
     pub fn ticket_of(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
-        self.instances(g, t)
-            .into_iter()
-            .find(|(_, i)| i.has(mark::TICKET))
+        self.each_instance(g, t).find(|(_, i)| i.has(mark::TICKET))
     }
 
     /// The codels (keys) of the threads queued up to and including `th`,
@@ -516,21 +539,28 @@ impl<'a> TimedEngine<'a> {
         st: &TG3State,
         except: Option<usize>,
     ) -> Vec<(usize, usize, Option<i64>)> {
-        let mut out = Vec::new();
-        for u in (0..self.e.m.tasks.len()).filter(|&u| Some(u) != except) {
-            if let Some((w, j)) = self.running(&st.g, u) {
+        self.each_holder(st, except).collect()
+    }
+
+    /// [`TimedEngine::holders`], one by one.
+    fn each_holder<'s>(
+        &'s self,
+        st: &'s TG3State,
+        except: Option<usize>,
+    ) -> impl Iterator<Item = (usize, usize, Option<i64>)> + 's {
+        let tasks = (0..self.e.m.tasks.len())
+            .filter(move |&u| Some(u) != except)
+            .filter_map(move |u| {
+                let (w, j) = self.running(&st.g, u)?;
                 let k = self.locks.key(w.owner(), j.state);
-                out.push((k, self.exec_clock[u], self.locks.wcet_of(k)));
-            }
-        }
-        let ctl_running = st.ctl.is_some_and(|c| c.running);
-        if let Some(k) = self
-            .ctl_codel(st)
-            .filter(|_| ctl_running && except.is_some())
-        {
-            out.push((k, self.ctl_clock, self.locks.wcet_of(k)));
-        }
-        out
+                Some((k, self.exec_clock[u], self.locks.wcet_of(k)))
+            });
+        let ctl = st
+            .ctl
+            .filter(|c| c.running && except.is_some())
+            .and_then(|_| self.ctl_codel(st))
+            .map(|k| (k, self.ctl_clock, self.locks.wcet_of(k)));
+        tasks.chain(ctl)
     }
 
     /// The key of the control codel next or running, if any.
@@ -565,9 +595,9 @@ impl<'a> TimedEngine<'a> {
     /// Whether time may not pass: some codel may begin or some ticket be
     /// taken.
     pub fn urgent(&self, st: &TG3State) -> bool {
-        let mut v = Vec::new();
-        self.begins(st, &mut v);
-        !v.is_empty()
+        let mut any = false;
+        self.each_begin(st, &mut |_| any = true);
+        any
     }
 
     /// The invariants of a state, as `x ≤ c`.
@@ -617,48 +647,152 @@ impl<'a> TimedEngine<'a> {
         // (snapshot clocks, whose exact values it needs).
         let own = st.zone.clocks() == self.clock_count();
         if own && !st.zone.is_empty() {
-            st.zone.extrapolate(&self.bounds, &self.upper);
+            let (lower, upper) = self.local_bounds(&st);
+            st.zone.extrapolate(&lower, &upper);
         }
         st
     }
+
+    /// The extrapolation bounds of `st`'s clocks (`docs/genom3-semantics.md`
+    /// 15.10): per clock, the largest constant it is compared with from
+    /// below and from above *before it is next reset*, read off the state.
+    /// A period clock keeps the model's bounds (its tick). A task's or the
+    /// control thread's execution clock is compared only with the codel it
+    /// runs: from below with that codel's least duration (an `async`
+    /// codel's WCET, else 0: no guard), from above with its WCET (the
+    /// invariant, and the overrun test at a tick); once the codel ends, the
+    /// clock is free until the next codel begins and resets it. So a long
+    /// codel elsewhere in the task does not keep every short codel's clock
+    /// exact up to its own length, and an execution clock's lower bounds
+    /// are forgotten past its least duration (Behrmann, Bouyer, Larsen and
+    /// Pelánek's LU extrapolation, with bounds per discrete state: exact
+    /// for reachability, and every path of the abstract graph runs
+    /// concretely).
+    fn local_bounds(&self, st: &TG3State) -> (Vec<Option<i64>>, Vec<Option<i64>>) {
+        let mut lower = self.bounds.clone();
+        let mut upper = self.upper.clone();
+        let mut set = |clock: usize, l: i64, u: Option<i64>| {
+            lower[clock - 1] = Some(l);
+            upper[clock - 1] = u;
+        };
+        for t in 0..self.e.m.tasks.len() {
+            match self.running(&st.g, t) {
+                Some((who, i)) => set(
+                    self.exec_clock[t],
+                    self.locks.lower(who.owner(), i.state),
+                    self.locks.wcet(who.owner(), i.state),
+                ),
+                None => set(self.exec_clock[t], 0, Some(0)),
+            }
+        }
+        let running = st.ctl.filter(|c| c.running).and(self.ctl_codel(st));
+        set(
+            self.ctl_clock,
+            0,
+            Some(running.and_then(|k| self.locks.wcet_of(k)).unwrap_or(0)),
+        );
+        (lower, upper)
+    }
 }
 
-/// Whether a control service's request has no effect but its codels: no
-/// interruption, not a built-in, no `after`/`before` naming it (`tracked`:
-/// the completions some step reads).
+/// Whether a control service's request has no effect but its codels: it
+/// is [`anonymous`] and interrupts nothing.
 fn inert(ctl: &super::machine::Control, tracked: &[u64]) -> bool {
+    anonymous(ctl, tracked) && ctl.interrupts.is_empty()
+}
+
+/// Whether a control service's request is known by its codels and its
+/// interruptions alone: a plain function or attribute (not a built-in)
+/// that no `after`/`before` names (`tracked`: the completions some step
+/// reads), so that no step reads which service it was.
+fn anonymous(ctl: &super::machine::Control, tracked: &[u64]) -> bool {
     let sid = ctl.service.index();
     let watched = tracked[sid / 64] >> (sid % 64) & 1 == 1;
-    ctl.kind == super::machine::ControlKind::Plain && ctl.interrupts.is_empty() && !watched
+    ctl.kind == super::machine::ControlKind::Plain && !watched
 }
 
-/// For each control service, the first one with the same contended codels
-/// when neither has another effect (no interruption, not a built-in, no
-/// `after`/`before` naming it).
+/// A control service of a request kind, with its contended codels' WCETs.
+type Member = (usize, Vec<Option<i64>>);
+
+/// For each control service, the one of the group (`ctls`) that stands
+/// for it in requests (docs/genom3-semantics.md 15.5, "Interchangeable
+/// requests"). Both are [`anonymous`], admitted under the same
+/// `after`/`before` services, interrupt the same activities, and run
+/// contended codels that wait for and make wait the same codels and can
+/// throw alike; and, phase by phase, the one standing for the other has
+/// the same WCET (`dominate` false: their runs are the same), or a WCET
+/// at least as long (`dominate`: every run of the other is one of its
+/// own, its codels taking the other's durations). Each stands for itself
+/// or for one that stands for itself.
 fn canonical_calls(
     m: &Machine<'_>,
     locks: &locks::Locks,
     jobs: &BTreeMap<ServiceId, Vec<usize>>,
     tracked: &[u64],
+    ctls: &[bool],
+    dominate: bool,
 ) -> Vec<u16> {
-    let mut first = BTreeMap::new();
-    (0..m.controls.len())
-        .map(|k| {
-            let ctl = &m.controls[k];
-            let sid = ctl.service;
-            if !inert(ctl, tracked) {
-                return k as u16;
+    // Per request kind, its services with their codels' WCETs.
+    let mut kinds: BTreeMap<_, Vec<Member>> = BTreeMap::new();
+    let mut canon: Vec<u16> = (0..m.controls.len()).map(|k| k as u16).collect();
+    for (k, ctl) in m.controls.iter().enumerate() {
+        let sid = ctl.service;
+        if !ctls[k] || !anonymous(ctl, tracked) {
+            continue;
+        }
+        let keys = jobs.get(&sid).into_iter().flatten().filter_map(|&i| {
+            let key = locks.ctl_key(sid, i)?;
+            Some((i, key))
+        });
+        let (mut codels, mut wcets) = (Vec::new(), Vec::new());
+        for (i, key) in keys {
+            let (excl, waited_by, upper, lower) = locks.signature(key);
+            let exact = (!dominate).then_some(upper);
+            codels.push((excl, waited_by, exact, lower, ctl_copy(m, sid, i)));
+            wcets.push(upper);
+        }
+        let mut interrupts = ctl.interrupts.clone();
+        interrupts.sort_unstable();
+        let admission = (m.after.get(&sid).cloned(), m.before.get(&sid).cloned());
+        kinds
+            .entry((codels, interrupts, admission))
+            .or_default()
+            .push((k, wcets));
+    }
+    let covers = |a: &[Option<i64>], b: &[Option<i64>]| {
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| x.unwrap_or(0) >= y.unwrap_or(0))
+    };
+    for members in kinds.values() {
+        // The maximal members, the first of equals: each stands for itself.
+        let maximal: Vec<&Member> = members
+            .iter()
+            .enumerate()
+            .filter(|&(n, (_, w))| {
+                !members
+                    .iter()
+                    .enumerate()
+                    .any(|(o, (_, v))| covers(v, w) && (!covers(w, v) || o < n))
+            })
+            .map(|(_, x)| x)
+            .collect();
+        for (k, w) in members {
+            if let Some(&&(j, _)) = maximal.iter().find(|(_, v)| covers(v, w)) {
+                canon[*k] = j as u16;
             }
-            let signature: Vec<_> = jobs
-                .get(&sid)
-                .into_iter()
-                .flatten()
-                .filter_map(|&i| locks.ctl_key(sid, i))
-                .map(|key| locks.signature(key))
-                .collect();
-            *first.entry(signature).or_insert(k as u16)
-        })
-        .collect()
+        }
+    }
+    canon
+}
+
+/// Whether the `i`-th control codel of service `sid` is an attribute's ids
+/// copy (it throws nothing).
+pub(crate) fn ctl_copy(m: &Machine<'_>, sid: ServiceId, i: usize) -> bool {
+    m.control_codels
+        .get(&sid)
+        .and_then(|v| v.get(i))
+        .is_some_and(|c| c.codel.is_none())
 }
 
 /// For each control service whose request does nothing but run one
@@ -674,12 +808,11 @@ fn quiet_calls(
         .iter()
         .map(|ctl| {
             let sid = ctl.service;
-            let codels = m.control_codels.get(&sid).map_or(&[][..], Vec::as_slice);
             let &[i] = jobs.get(&sid)?.as_slice() else {
                 return None;
             };
             let key = locks.ctl_key(sid, i)?;
-            let copy = codels.get(i).is_some_and(|c| c.codel.is_none());
+            let copy = ctl_copy(m, sid, i);
             (inert(ctl, tracked) && copy && locks.wcet_of(key) == Some(0)).then_some(key)
         })
         .collect()

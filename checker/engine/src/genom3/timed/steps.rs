@@ -41,14 +41,7 @@ impl TimedEngine<'_> {
             let copy = self
                 .job_service(c.job)
                 .zip(self.job_codel(c))
-                .is_some_and(|(s, i)| {
-                    self.e
-                        .m
-                        .control_codels
-                        .get(&s)
-                        .and_then(|v| v.get(i))
-                        .is_some_and(|x| x.codel.is_none())
-                });
+                .is_some_and(|(s, i)| super::ctl_copy(&self.e.m, s, i));
             if !copy {
                 out.push(TG3Action::CtlEnd(false));
             }

@@ -228,3 +228,51 @@ fn quiet_requests_left_out_change_no_overrun() {
         "the reduction applied to {quiet} components only"
     );
 }
+
+#[test]
+fn a_request_stands_for_one_with_the_same_locks_and_a_shorter_codel() {
+    // `brief` and `lengthy` write `x`, which the task's 6 ms codel reads:
+    // `lengthy`'s 5 ms codel can delay it past its 10 ms period, `brief`'s
+    // 1 ms cannot. For schedulability `lengthy` stands for `brief` (every
+    // run of `brief` is one of `lengthy`'s): the same overrun, from fewer
+    // states, and its trace replays; response times keep both.
+    let text = "component d {\n  ids { long x; };\n  task t { period 10 ms; };\n  activity r() { task t; codel<start, s> fr(in x) yield pause::s, ether; };\n  function brief(in long v) { codel fb(in v, out x); };\n  function lengthy(in long v) { codel fl(in v, out x); };\n};\n";
+    let wcet = "r.s 6ms\nbrief.codel 1ms\nlengthy.codel 5ms\n";
+    let c = load_genom3_wcet(text, wcet);
+    let m = Machine::new(&c, 1).expect("GenoM3");
+    let name = |k: u16| {
+        m.service_name(m.controls[usize::from(k)].service)
+            .to_string()
+    };
+    let mut te = super::TimedEngine::new(m.clone()).expect("few tasks");
+    let exact: Vec<String> = te.canon.iter().take(2).map(|&k| name(k)).collect();
+    assert_eq!(
+        exact,
+        ["brief", "lengthy"],
+        "different WCETs: not the same runs"
+    );
+    te.dominate_calls();
+    let dominated: Vec<String> = te.canon.iter().take(2).map(|&k| name(k)).collect();
+    assert_eq!(dominated, ["lengthy", "lengthy"]);
+    let limits = Limits::default();
+    let fast = analyse_timing(&m, limits).expect("few tasks");
+    let full = super::analysis::analyse_timing_with(&m, limits, false).expect("few tasks");
+    assert!(fast.stopped.is_none() && full.stopped.is_none());
+    assert!(fast.states < full.states, "{} {}", fast.states, full.states);
+    let tasks = |a: &TimingAnalysis| {
+        a.overruns
+            .iter()
+            .map(|o| (o.task, o.cause))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(tasks(&fast), tasks(&full));
+    assert_eq!(fast.overruns.len(), 1);
+    let trace = &fast.overruns[0].trace;
+    assert!(
+        trace.steps.iter().any(|s| s.codel.as_deref() == Some("codel")
+            && s.service.as_deref() == Some("lengthy")),
+        "{trace:#?}"
+    );
+    genom_oracles::replay::genom3_timed::replay_genom3_timed(&c, 1, trace)
+        .unwrap_or_else(|e| panic!("{e}\n{trace:#?}"));
+}
