@@ -83,7 +83,9 @@ pub enum TG3Action {
     /// Aperiodic task `t` is activated.
     Wake(u8),
     /// The control thread takes a request whose service has control
-    /// codels (`validate`, a function's codels): they run in turn.
+    /// codels (`validate`, a function's codels): they run in turn, the
+    /// first begins or takes its ticket at once (docs/genom3-semantics.md
+    /// 15.5, "Requests taken with their first codel").
     CtlBegin(G3Action),
     /// The control thread begins its next control codel (its locks are
     /// free, and its ticket is the queue's head or the queue is empty).
@@ -496,16 +498,21 @@ impl<'a> TimedEngine<'a> {
                 }
             }
         }
-        let (Some(c), Some(k)) = (st.ctl, self.ctl_codel(st)) else {
-            return;
-        };
-        if !c.running {
-            match Self::turn(st, CTL, self.locks_free(st, None, k)) {
-                Some(true) => emit(TG3Action::CtlPhase),
-                Some(false) => emit(TG3Action::CtlTicket),
-                None => {}
-            }
+        match self.ctl_turn(st) {
+            Some(true) => emit(TG3Action::CtlPhase),
+            Some(false) => emit(TG3Action::CtlTicket),
+            None => {}
         }
+    }
+
+    /// How the control thread goes on with its next control codel, when it
+    /// has one and does not run it ([`TimedEngine::turn`]).
+    pub(crate) fn ctl_turn(&self, st: &TG3State) -> Option<bool> {
+        let (c, k) = (st.ctl?, self.ctl_codel(st)?);
+        if c.running {
+            return None;
+        }
+        Self::turn(st, CTL, self.locks_free(st, None, k))
     }
 
     /// The instance task `t` holds its ticket for, if any.

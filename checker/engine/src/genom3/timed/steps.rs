@@ -105,13 +105,14 @@ impl TimedEngine<'_> {
                     phase: 0,
                     running: false,
                 });
+                // Its first codel begins, or it takes a ticket, at once.
+                match self.ctl_turn(&n) {
+                    Some(true) => self.ctl_phase(&mut n)?,
+                    Some(false) => n.queue.push(CTL),
+                    None => {}
+                }
             }
-            TG3Action::CtlPhase => {
-                let c = n.ctl?;
-                n.ctl = Some(Ctl { running: true, ..c });
-                n.queue.retain(|&u| u != CTL);
-                n.zone.reset(self.ctl_clock);
-            }
+            TG3Action::CtlPhase => self.ctl_phase(&mut n)?,
             TG3Action::CtlTicket => n.queue.push(CTL),
             TG3Action::CtlEnd(ok) => {
                 let c = n.ctl?;
@@ -163,6 +164,15 @@ impl TimedEngine<'_> {
             }
         }
         Some(self.finish(n))
+    }
+
+    /// The control thread begins its next control codel.
+    fn ctl_phase(&self, n: &mut TG3State) -> Option<()> {
+        let c = n.ctl?;
+        n.ctl = Some(Ctl { running: true, ..c });
+        n.queue.retain(|&u| u != CTL);
+        n.zone.reset(self.ctl_clock);
+        Some(())
     }
 
     /// Task `t`'s tick: an overrun when its work is unfinished (and not

@@ -42,6 +42,7 @@ pub fn timed_trace_beyond(
         Event::ComponentStart,
         "the component starts; periodic tasks wake at their ticks, the first at their `delay`",
     )];
+    // Per step, the action it belongs to (its instant); 0: the start.
     let mut marks = vec![0usize];
     for (k, &a) in path.iter().enumerate() {
         let Some(mut next) = te.fire(&st, a) else {
@@ -50,8 +51,10 @@ pub fn timed_trace_beyond(
         te.follow_responses(&st, &mut next);
         next.zone.reset(base + 2 + k);
         let next = te.let_time_pass(next);
-        marks.push(steps.len());
-        steps.push(render(te, &st, &next, a));
+        for step in render(te, &st, &next, a) {
+            marks.push(k + 1);
+            steps.push(step);
+        }
         st = next;
     }
     let mut trace = Trace {
@@ -75,8 +78,8 @@ pub fn timed_trace_beyond(
         u64::try_from(ns.max(0)).unwrap_or(u64::MAX)
     };
     trace.steps[0].time_ns = Some(0);
-    for (m, &at) in marks.iter().enumerate().skip(1) {
-        trace.steps[at].time_ns = Some(to_ns(now - values[base + m]));
+    for (step, &k) in trace.steps.iter_mut().zip(&marks).skip(1) {
+        step.time_ns = Some(to_ns(now - values[base + k]));
     }
     let mut last = last;
     last.time_ns = Some(to_ns(now));
@@ -84,8 +87,40 @@ pub fn timed_trace_beyond(
     trace
 }
 
+/// The steps of action `a` from `before` to `after`: one, or for a request
+/// taken, the request and then its first codel beginning or its ticket.
+fn render(
+    te: &TimedEngine<'_>,
+    before: &TG3State,
+    after: &TG3State,
+    a: TG3Action,
+) -> Vec<TraceStep> {
+    let TG3Action::CtlBegin(job) = a else {
+        return vec![render_one(te, before, after, a)];
+    };
+    let mut taken = before.clone();
+    taken.ctl = Some(super::Ctl {
+        job,
+        phase: 0,
+        running: false,
+    });
+    let first = match after.ctl {
+        Some(c) if c.running => Some(TG3Action::CtlPhase),
+        Some(_) if after.queue.contains(&super::CTL) => Some(TG3Action::CtlTicket),
+        _ => None,
+    };
+    let mut out = vec![render_one(te, before, &taken, a)];
+    out.extend(first.map(|f| render_one(te, &taken, after, f)));
+    out
+}
+
 /// The step of action `a` from `before` to `after`.
-fn render(te: &TimedEngine<'_>, before: &TG3State, after: &TG3State, a: TG3Action) -> TraceStep {
+fn render_one(
+    te: &TimedEngine<'_>,
+    before: &TG3State,
+    after: &TG3State,
+    a: TG3Action,
+) -> TraceStep {
     let m = te.m();
     let task = |t: u8| m.tasks[usize::from(t)].name.clone();
     match a {
