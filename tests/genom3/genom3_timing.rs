@@ -334,7 +334,7 @@ fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
         wcet_file: Some(PathBuf::from(DIR).join("f7_attribute_copy.wcet")),
         ..Inputs::default()
     };
-    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(150)).unwrap();
+    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(120)).unwrap();
     let help = r
         .diagnostics
         .iter()

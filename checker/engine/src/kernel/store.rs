@@ -20,7 +20,7 @@ mod table;
 use std::hash::Hash;
 
 use column::Column;
-use pool::{Pool, ZoneId};
+use pool::Pool;
 use table::{Probe, Table, hash};
 
 /// Index of a stored state.
@@ -65,12 +65,12 @@ const NONE: StateId = StateId::MAX;
 pub struct Store<A, Z = ()> {
     width: usize,
     words: Column<u64>,
-    /// Per state, its zone's index in `pool` (chained stores only).
-    zones: Column<ZoneId>,
+    /// Per state (chained stores only), side by side so that a walk along a
+    /// chain reads one place per state: the previous state with the same
+    /// words ([`NONE`] at the end), and its zone's index in `pool`.
+    chain: Column<u32>,
     /// The distinct zones.
     pool: Pool<Z>,
-    /// The previous state with the same words (chained stores only).
-    same: Column<StateId>,
     /// States whose zone a later state includes: no need to expand them
     /// (chained stores only).
     covered: Column<bool>,
@@ -96,9 +96,8 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         Store {
             width,
             words: Column::new(width),
-            zones: Column::new(1),
+            chain: Column::new(2),
             pool: Pool::new(),
-            same: Column::new(1),
             covered: Column::new(1),
             table: Table::new(),
             parents: Column::new(1),
@@ -117,7 +116,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             // Untimed: no zone is stored; the pool holds the one value.
             return self.pool.get(0);
         }
-        self.pool.get(self.zones.get(id as usize)[0])
+        self.pool.get(self.chain.get(id as usize)[1])
     }
 
     /// Looks `key` (of hash `hash`) up in the table.
@@ -189,7 +188,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         let mut last = NONE;
         let mut cur = head;
         while cur != NONE {
-            let next = self.same.get(cur as usize)[0];
+            let next = self.chain.get(cur as usize)[0];
             let other = self.zone(cur);
             if zone.subsumed_by(other) {
                 // The chain goes on whole from `cur`.
@@ -223,15 +222,14 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         let zid = self.pool.intern(zone);
         self.table.set(slot, hash, id);
         self.covered.push(false);
-        self.same.push(kept);
-        self.zones.push(zid);
+        self.chain.push_slice(&[kept, zid]);
         self.push(key, parent);
         (id, true)
     }
 
     /// Points `id`'s chain link at `next`.
     fn set_same(&mut self, id: StateId, next: StateId) {
-        if let Some(link) = self.same.first_mut(id as usize) {
+        if let Some(link) = self.chain.first_mut(id as usize) {
             *link = next;
         }
     }
@@ -308,10 +306,9 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     pub fn bytes(&self) -> usize {
         self.words.capacity() * 8
             + self.table.capacity() * size_of::<u32>()
-            + (self.parents.capacity() + self.same.capacity()) * size_of::<StateId>()
+            + (self.parents.capacity() + self.chain.capacity()) * size_of::<u32>()
             + self.covered.capacity()
             + self.via.capacity() * size_of::<Option<A>>()
-            + self.zones.capacity() * size_of::<ZoneId>()
             + self.pool.bytes()
     }
 }
