@@ -124,10 +124,16 @@ fn bench(cr: &mut Criterion) {
             untimed,
         ),
     ];
-    let real: [(&str, &str); 3] = [
+    // The corpus components with a WCET file (timed and untimed), and
+    // rotorcraft, the largest untimed one.
+    let real: [(&str, &str); 7] = [
         ("rotorcraft", "rotorcraft-genom3"),
+        ("uavvs", "uavvs-genom3"),
+        ("uavatt", "uavatt-genom3"),
         ("uavpos", "uavpos-genom3"),
+        ("T265", "T265-genom3"),
         ("nhfc", "nhfc-genom3"),
+        ("rmp440", "infuse_rmp440-genom3"),
     ];
     for (name, folder) in real {
         if let Some(c) = corpus(name, folder) {
