@@ -79,7 +79,7 @@ fn every_fixture_overrun_replays() {
     // Overrun traces (one per task and cause) with one and two instances.
     let expected = [
         ("f10_restart", (1, 3)),
-        ("f10_restart_fixed", (0, 1)),
+        ("f10_restart_fixed", (0, 2)),
         ("f11_hidden", (2, 3)),
         ("f11_hidden_fixed", (0, 1)),
         ("f11_permanent_long", (1, 1)),
