@@ -186,35 +186,38 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         // chains hold only zones that none of them includes.
         let mut kept = NONE;
         let mut last = NONE;
+        let mut found = None;
         let mut cur = head;
         while cur != NONE {
             let next = self.chain.get(cur as usize)[0];
             let other = self.zone(cur);
-            if zone.subsumed_by(other) {
-                // The chain goes on whole from `cur`.
-                if last == NONE {
-                    kept = cur;
-                } else {
-                    self.set_same(last, cur);
-                }
-                if kept != head {
-                    self.table.set(slot, hash, kept);
-                }
-                return (cur, false);
-            }
-            if other.subsumed_by(&zone) {
+            let old = zone.subsumed_by(other);
+            if !old && other.subsumed_by(&zone) {
                 if let Some(flag) = self.covered.first_mut(cur as usize) {
                     *flag = true;
                 }
+                cur = next;
+                continue;
+            }
+            // `cur` stays, after the last state that stayed.
+            if last == NONE {
+                kept = cur;
             } else {
-                if last == NONE {
-                    kept = cur;
-                } else {
-                    self.set_same(last, cur);
-                }
-                last = cur;
+                self.set_same(last, cur);
+            }
+            last = cur;
+            if old {
+                // The chain goes on whole from `cur`.
+                found = Some(cur);
+                break;
             }
             cur = next;
+        }
+        if let Some(cur) = found {
+            if kept != head {
+                self.table.set(slot, hash, kept);
+            }
+            return (cur, false);
         }
         if last != NONE {
             self.set_same(last, NONE);

@@ -182,7 +182,6 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
 /// A codel of task `t` longer than its period, still running in `st`.
 fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
     te.instances(&st.g, t)
-        .into_iter()
         .filter(|(_, i)| i.has(mark::BUSY))
         .find_map(|(who, i)| longer_than_period(te.m(), t, who, i.state))
 }

@@ -33,10 +33,6 @@ pub struct Locks {
     lower: Vec<i64>,
     /// Per key: the keys it waits for.
     excl: Vec<Vec<usize>>,
-    /// Per task: the largest duration constant of its codels.
-    task_bound: Vec<i64>,
-    /// The largest duration of a control codel.
-    pub ctl_bound: i64,
     /// Per key: its task (`usize::MAX` for a control codel).
     pub key_task: Vec<usize>,
 }
@@ -69,24 +65,20 @@ impl Locks {
         let units = |ns: u64| i64::try_from(ns / unit.max(1)).unwrap_or(i64::MAX / 4);
         let mut upper = Vec::with_capacity(next);
         let mut lower = Vec::with_capacity(next);
-        let mut task_bound = vec![0; m.tasks.len()];
         let mut codels = Vec::with_capacity(next);
         for &(owner, task, fsm) in &owners {
             for st in &fsm.states {
                 let w = st.wcet_ns.map_or(0, units);
                 upper.push((!st.is_async).then_some(w));
                 lower.push(if st.is_async { w } else { 0 });
-                task_bound[task] = task_bound[task].max(w);
                 codels.push((Some(owner), task, st));
             }
         }
         // The control thread: no task, no owner.
-        let mut ctl_bound = 0;
         for st in ctl_fsms.into_iter().flatten() {
             let w = st.wcet_ns.map_or(0, units);
             upper.push(Some(w));
             lower.push(0);
-            ctl_bound = ctl_bound.max(w);
             codels.push((None, usize::MAX, st));
         }
         let key_task = codels.iter().map(|&(_, t, _)| t).collect();
@@ -114,12 +106,10 @@ impl Locks {
             act_base,
             perm_base,
             ctl_base,
-            ctl_bound,
             key_task,
             upper,
             lower,
             excl,
-            task_bound,
         }
     }
 
@@ -197,11 +187,6 @@ impl Locks {
     /// Whether codel `k` waits while codel `j` runs.
     pub fn excludes(&self, k: usize, j: usize) -> bool {
         self.excl[k].binary_search(&j).is_ok()
-    }
-
-    /// The largest duration constant of task `t`'s codels.
-    pub fn task_bound(&self, t: usize) -> i64 {
-        self.task_bound[t]
     }
 }
 

@@ -281,12 +281,14 @@ impl<'a> TimedEngine<'a> {
                 bounds.len()
             }));
         }
+        // The execution clocks' bounds depend on the codel running: set per
+        // state ([`TimedEngine::local_bounds`]).
         let mut exec_clock = Vec::new();
-        for t in 0..n {
-            bounds.push(Some(locks.task_bound(t)));
+        for _ in 0..n {
+            bounds.push(Some(0));
             exec_clock.push(bounds.len());
         }
-        bounds.push(Some(locks.ctl_bound));
+        bounds.push(Some(0));
         let ctl_clock = bounds.len();
         let acts_of = (0..n)
             .map(|t| {
@@ -348,17 +350,8 @@ impl<'a> TimedEngine<'a> {
     /// ran does not matter, but not for response times, which are each
     /// service's own.
     pub fn dominate_calls(&mut self) {
-        let ctls: Vec<bool> = (0..self.e.m.controls.len())
-            .map(|k| self.e.ctls[k])
-            .collect();
-        self.canon = canonical_calls(
-            &self.e.m,
-            &self.locks,
-            &self.jobs,
-            &self.tracked,
-            &ctls,
-            true,
-        );
+        let e = &self.e;
+        self.canon = canonical_calls(&e.m, &self.locks, &self.jobs, &self.tracked, &e.ctls, true);
     }
 
     /// Bit widths of the packed state after the untimed words: a per-task
@@ -409,14 +402,8 @@ impl<'a> TimedEngine<'a> {
     }
 
     /// The instances of task `t` (its permanent one first), with who owns
-    /// each.
-    pub fn instances(&self, g: &G3State, t: usize) -> Vec<(Who, Inst)> {
-        self.each_instance(g, t).collect()
-    }
-
-    /// [`TimedEngine::instances`], one by one (no allocation: it is read
-    /// several times per state).
-    pub fn each_instance<'s>(
+    /// each (an iterator, not a list: it is read several times per state).
+    pub fn instances<'s>(
         &'s self,
         g: &'s G3State,
         t: usize,
@@ -434,14 +421,14 @@ impl<'a> TimedEngine<'a> {
 
     /// The instance of task `t` running a codel, if any.
     pub fn running(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
-        self.each_instance(g, t).find(|(_, i)| i.has(mark::BUSY))
+        self.instances(g, t).find(|(_, i)| i.has(mark::BUSY))
     }
 
     /// Task `t` has work left in its current wake-up.
     pub fn unfinished(&self, st: &TG3State, t: usize) -> bool {
         st.cont >> t & 1 == 1
             || self
-                .each_instance(&st.g, t)
+                .instances(&st.g, t)
                 .any(|(_, i)| i.has(mark::BUSY | mark::DUE))
     }
 
@@ -449,7 +436,7 @@ impl<'a> TimedEngine<'a> {
     /// thread) has its locks free: no other thread runs a codel it waits
     /// for.
     pub fn locks_free(&self, st: &TG3State, t: Option<usize>, k: usize) -> bool {
-        self.each_holder(st, t)
+        self.holders(st, t)
             .all(|(j, _, _)| !self.locks.excludes(k, j))
     }
 
@@ -483,7 +470,7 @@ impl<'a> TimedEngine<'a> {
                 continue;
             }
             let queued = st.queue.contains(&(t as u8));
-            for (who, i) in self.each_instance(&st.g, t) {
+            for (who, i) in self.instances(&st.g, t) {
                 if !i.has(mark::DUE) || (queued && !i.has(mark::TICKET)) {
                     continue;
                 }
@@ -520,7 +507,7 @@ impl<'a> TimedEngine<'a> {
 
     /// The instance task `t` holds its ticket for, if any.
     pub fn ticket_of(&self, g: &G3State, t: usize) -> Option<(Who, Inst)> {
-        self.each_instance(g, t).find(|(_, i)| i.has(mark::TICKET))
+        self.instances(g, t).find(|(_, i)| i.has(mark::TICKET))
     }
 
     /// The codels (keys) of the threads queued up to and including `th`,
@@ -544,16 +531,7 @@ impl<'a> TimedEngine<'a> {
     /// The running codels (key, clock, WCET) that a codel of task `except`
     /// may wait for: those of the other tasks and of the control thread;
     /// with `None` (for a control codel), those of every task.
-    pub fn holders(
-        &self,
-        st: &TG3State,
-        except: Option<usize>,
-    ) -> Vec<(usize, usize, Option<i64>)> {
-        self.each_holder(st, except).collect()
-    }
-
-    /// [`TimedEngine::holders`], one by one.
-    fn each_holder<'s>(
+    pub fn holders<'s>(
         &'s self,
         st: &'s TG3State,
         except: Option<usize>,

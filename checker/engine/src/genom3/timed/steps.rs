@@ -87,8 +87,7 @@ impl TimedEngine<'_> {
             && !self.unfinished(st, t)
             && self
                 .instances(&st.g, t)
-                .iter()
-                .any(|&(_, i)| i.status == Status::Ready || idle_running(i))
+                .any(|(_, i)| i.status == Status::Ready || idle_running(i))
     }
 
     /// Fires `a` from `st` (no delay after it); `None` when its guard
@@ -230,7 +229,6 @@ impl TimedEngine<'_> {
         let queued = self.queued_codels(st, t as u8);
         let holders: Vec<_> = self
             .holders(st, Some(t))
-            .into_iter()
             .filter(|&(j, _, _)| {
                 queued.is_empty() || queued.iter().any(|&k| self.locks.excludes(k, j))
             })
@@ -287,7 +285,6 @@ impl TimedEngine<'_> {
             if n.cont >> t & 1 == 1
                 && !self
                     .instances(&n.g, t)
-                    .iter()
                     .any(|(_, i)| i.has(mark::BUSY | mark::DUE))
             {
                 n.cont &= !(1 << t);
