@@ -22,7 +22,7 @@ use std::fmt::Write as _;
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
 use genom_model::timed_automata::Network;
-use genom_model::{Counts, Dialect, SourceMap};
+use genom_model::{Assumption, Counts, Dialect, ResponseTime, SourceMap};
 use genom_translate::timed_automata::BuildNetwork;
 
 /// An output format of `genom-check export`.
@@ -79,16 +79,19 @@ impl Format {
 
     /// The language whose execution semantics the export of a component
     /// written in `dialect` encodes: the one place an export's translation
-    /// is chosen by language. The timed automata (`uppaal`, `tchecker`) and
-    /// `promela` encode each language's own; the Petri nets, Fiacre and the
-    /// runtime configuration LANGUAGE.md's only; the diagrams draw the
+    /// is chosen by language. The timed automata (`uppaal`, `tchecker`),
+    /// `promela` and the runtime configuration (`config`) encode each
+    /// language's own; the Petri nets and Fiacre LANGUAGE.md's only; the diagrams draw the
     /// structure, the same in both.
     pub fn semantics(self, dialect: Dialect) -> Dialect {
         match self {
-            Format::Uppaal | Format::Tchecker | Format::Promela | Format::Dot | Format::Svg => {
-                dialect
-            }
-            Format::Fiacre | Format::Pnml | Format::Tina | Format::Config => Dialect::Gen,
+            Format::Uppaal
+            | Format::Tchecker
+            | Format::Promela
+            | Format::Config
+            | Format::Dot
+            | Format::Svg => dialect,
+            Format::Fiacre | Format::Pnml | Format::Tina => Dialect::Gen,
         }
     }
 
@@ -129,6 +132,12 @@ pub struct Verification {
     pub error_codes: Vec<String>,
     /// genom-check's version.
     pub tool_version: String,
+    /// What the verdicts rest on besides the text (the WCET file, the
+    /// instance bound), from the check's statistics.
+    pub assumptions: Vec<Assumption>,
+    /// The worst-case response times the check computed, by service name
+    /// (empty when it computed none).
+    pub response_times: Vec<ResponseTime>,
 }
 
 /// Everything an export needs.

@@ -26,6 +26,7 @@
 
 use std::collections::BTreeSet;
 
+use genom_model::component::genom3::Genom3Info;
 use genom_model::component::{Component, ServiceId};
 use genom_model::duration::format_ns;
 use genom_model::kinds::ServiceKind;
@@ -82,14 +83,29 @@ impl Verification {
             properties,
             error_codes: error_codes.into_iter().map(str::to_owned).collect(),
             tool_version: tool_version.to_owned(),
+            assumptions: statistics.map_or_else(Vec::new, |s| s.assumptions.clone()),
+            response_times: Vec::new(),
         }
     }
 }
+
+/// Proven by every verified GenoM3 component (its engines report the
+/// violations of these as errors).
+const GENOM3_ALWAYS: [&str; 3] = ["static-semantics", "every-service-can-start", "no-livelock"];
+
+/// GenoM3's properties whose violation is a warning: (property, code).
+const GENOM3_UNLESS_WARNED: [(&str, Code); 2] = [
+    ("every-codel-reachable", Code::UnreachableCodel),
+    ("no-unpaused-loop", Code::UnpausedLoop),
+];
 
 /// The properties a verified component's check proves, in a fixed order:
 /// the general ones, then threads and services in source order.
 pub fn proven(c: &Component, diagnostics: &[Diagnostic]) -> Vec<String> {
     let warned = |code: Code| diagnostics.iter().any(|d| d.code == code);
+    if let Some(g) = &c.genom3 {
+        return proven_genom3(c, g, &warned);
+    }
     let mut out: Vec<String> = ALWAYS.iter().map(|p| (*p).to_owned()).collect();
     for (property, code) in UNLESS_WARNED {
         let applies = property != "auto-services-run-forever"
@@ -131,6 +147,31 @@ pub fn proven(c: &Component, diagnostics: &[Diagnostic]) -> Vec<String> {
     out
 }
 
+/// The properties a verified GenoM3 component's check proves. Task
+/// overruns are proven only when every codel of the component, the
+/// permanent ones and the control task's included, has a WCET: a codel
+/// without one counts as taking no time, and with GenoM3's locks and the
+/// control task's queue any codel can delay any task.
+fn proven_genom3(c: &Component, g: &Genom3Info, warned: &dyn Fn(Code) -> bool) -> Vec<String> {
+    let mut out: Vec<String> = GENOM3_ALWAYS.iter().map(|p| (*p).to_owned()).collect();
+    for (property, code) in GENOM3_UNLESS_WARNED {
+        if !warned(code) {
+            out.push(property.to_owned());
+        }
+    }
+    let task_codels = || g.tasks.iter().flat_map(|t| t.codels.iter());
+    let every =
+        c.codels.values().all(|k| k.wcet.is_some()) && task_codels().all(|k| k.wcet.is_some());
+    let any =
+        c.codels.values().any(|k| k.wcet.is_some()) || task_codels().any(|k| k.wcet.is_some());
+    if any && every {
+        for t in c.threads.values().filter(|t| t.period.is_some()) {
+            out.push(format!("thread-never-overruns:{}", t.name.name));
+        }
+    }
+    out
+}
+
 /// A property's kind, subject (a thread or service name) and a sentence
 /// saying what it means for this component.
 pub fn describe(c: &Component, property: &str) -> (String, Option<String>, String) {
@@ -150,6 +191,8 @@ fn statement(c: &Component, kind: &str, subject: &str) -> String {
             "no pending instance can wait forever on an instance that may never end".into()
         }
         "every-service-can-start" => "every service can be started (or, without start codel, accepted)".into(),
+        "no-livelock" => "no task can sweep a cycle of codel transitions forever without `pause::` or `async`".into(),
+        "no-unpaused-loop" => "no reachable cycle of codel transitions lacks a `pause::` or an `async` codel".into(),
         "interrupts-terminate" => "every interrupted service ends: its inter codels cannot loop forever".into(),
         "every-codel-reachable" => "every codel runs in some execution".into(),
         "every-service-can-end" => "every non-auto service can end by itself from every codel it reaches".into(),
@@ -160,7 +203,8 @@ fn statement(c: &Component, kind: &str, subject: &str) -> String {
                 .thread_named(subject)
                 .and_then(|t| c.threads[t].period)
                 .map_or_else(String::new, |p| format!(" {}", format_ns(p.ns)));
-            format!("thread `{subject}` always finishes the codels of a period before its next{period} wake-up")
+            let word = c.dialect().thread_word();
+            format!("{word} `{subject}` always finishes the codels of a period before its next{period} wake-up")
         }
         "meets-max-time" => {
             let limit = c

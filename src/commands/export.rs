@@ -24,7 +24,10 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
         .max_states(args.max_states)
         .timeout(args.timeout)
         .max_memory(args.max_memory)
-        .engine(args.engine.into());
+        .engine(args.engine.into())
+        // A GenoM3 configuration carries each service's worst-case
+        // response time; a WCET file is taken for GenoM3 only.
+        .response_times(args.target == ExportFormat::Config && args.input.wcet.is_some());
     let result = match genom_check::check_path(&args.file, &args.input.inputs(), &options) {
         Ok(r) => r,
         Err(e) => {
@@ -148,14 +151,17 @@ fn models_foreign_semantics(args: &ExportArgs, result: &CheckResult) -> bool {
     format(args.target).semantics(result.dialect) != result.dialect
 }
 
-/// What the check established.
+/// What the check established, with the response times it computed.
 fn verification(result: &CheckResult) -> Verification {
-    Verification::of(
-        result.component.as_ref(),
-        &result.diagnostics,
-        result.statistics.as_ref(),
-        env!("CARGO_PKG_VERSION"),
-    )
+    Verification {
+        response_times: result.response_times.clone(),
+        ..Verification::of(
+            result.component.as_ref(),
+            &result.diagnostics,
+            result.statistics.as_ref(),
+            env!("CARGO_PKG_VERSION"),
+        )
+    }
 }
 
 /// Why the export is not verified, for messages.

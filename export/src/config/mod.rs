@@ -32,13 +32,21 @@ pub const FORMAT_VERSION: u32 = 1;
 pub const CONTROL_THREAD: &str = "control";
 
 mod document;
+pub mod genom3;
+mod genom3_document;
 
 pub use document::*;
+pub use genom3_document::*;
 
-/// Exports the component as its runtime configuration (JSON).
+/// Exports the component as its runtime configuration (JSON): a GenoM3
+/// component's in GenoM3's terms ([`genom3::build`]), a LANGUAGE.md
+/// component's as [`build`] writes it.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let config = build(input);
-    let mut text = serde_json::to_string_pretty(&config).map_err(|e| ExportError::Unsupported {
+    let text = match &input.component.genom3 {
+        Some(g) => serde_json::to_string_pretty(&genom3::build(input, g)),
+        None => serde_json::to_string_pretty(&build(input)),
+    };
+    let mut text = text.map_err(|e| ExportError::Unsupported {
         format: "config",
         reason: e.to_string(),
     })?;
@@ -46,10 +54,20 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     Ok(Exported::single(text))
 }
 
-/// The JSON Schema of the document, pretty-printed with a final newline.
+/// The JSON Schema of the LANGUAGE.md document, pretty-printed with a
+/// final newline.
 pub fn schema() -> String {
-    let schema = schemars::schema_for!(RuntimeConfig);
-    let mut text = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    schema_text(&schemars::schema_for!(RuntimeConfig))
+}
+
+/// The JSON Schema of the GenoM3 document ([`Genom3Config`]),
+/// pretty-printed with a final newline.
+pub fn genom3_schema() -> String {
+    schema_text(&schemars::schema_for!(Genom3Config))
+}
+
+fn schema_text(schema: &schemars::Schema) -> String {
+    let mut text = serde_json::to_string_pretty(schema).unwrap_or_default();
     text.push('\n');
     text
 }
