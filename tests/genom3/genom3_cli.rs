@@ -261,6 +261,75 @@ fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_ar
 }
 
 #[test]
+fn the_runtime_configuration_of_a_genom3_component_carries_its_response_times() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixed = "tests/fixtures/genom3/timing/f10_restart_fixed";
+    let out = dir.path().join("fixed.json");
+    let wcet = format!("{fixed}.wcet");
+    let done = genom_check()
+        .args([
+            "export",
+            "config",
+            &format!("{fixed}.gen"),
+            "--wcet",
+            &wcet,
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(done.status.code(), Some(0), "{done:?}");
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["format"], "genom-check/genom3-runtime-config");
+    assert_eq!(doc["verified"], Value::Bool(true));
+    assert_eq!(doc["assumptions"]["wcet_file"]["path"], Value::String(wcet));
+    let timed: Vec<&str> = doc["services"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| !s["response_time"].is_null())
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(timed, ["plan", "track"]);
+    // The broken version overruns: refused, then exported marked.
+    let broken = "tests/fixtures/genom3/timing/f10_restart";
+    let path = dir.path().join("broken.json");
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "export".to_owned(),
+            "config".to_owned(),
+            format!("{broken}.gen"),
+            "--wcet".to_owned(),
+            format!("{broken}.wcet"),
+        ];
+        a.extend(extra.iter().map(|x| (*x).to_owned()));
+        a
+    };
+    let refused = genom_check()
+        .args(args(&[]))
+        .arg("-o")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("thread-overrun"));
+    assert!(!path.exists());
+    let marked = genom_check()
+        .args(args(&["--allow-unverified"]))
+        .arg("-o")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(marked.status.code(), Some(0), "{marked:?}");
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(doc["verified"], Value::Bool(false));
+    assert_eq!(
+        doc["verification"]["error_codes"],
+        serde_json::json!(["thread-overrun"])
+    );
+}
+
+#[test]
 fn the_dialect_can_be_forced() {
     // GenoM3 read as LANGUAGE.md: a syntax error at its first GenoM3 line.
     let (status, file) = json(&["--dialect", "gen", "--static-only", DEMO]);
