@@ -17,7 +17,8 @@
 //!   no clock, as UPPAAL requires);
 //! - `<instantiation>` makes one process of each template, `<system>`
 //!   lists them;
-//! - `<queries>` (and the companion `.q` file): `A[] not deadlock`, one
+//! - `<queries>` (and the companion `.q` file): `A[] not deadlock` (not
+//!   for GenoM3, whose components may stop for good without fault), one
 //!   `E<>` per codel label (over every location it marks: a GenoM3
 //!   activity's codel in each of its slots), `A[] not S_watchdog.late`
 //!   per service with a clocked watchdog (a max-time and no unbounded
@@ -43,7 +44,7 @@ pub fn export(
     (net, semantics): (Network, Option<&'static str>),
 ) -> Result<Exported, ExportError> {
     let mut out = match semantics {
-        Some(s) => render_as(&net, s),
+        Some(s) => render_genom3(&net, s),
         None => render(&net),
     };
     let verified = input.verification.verified;
@@ -63,7 +64,22 @@ pub fn render(net: &Network) -> Exported {
 /// The printed model of a network; `semantics` says which one it encodes
 /// (a header comment).
 pub fn render_as(net: &Network, semantics: &str) -> Exported {
-    let mut p = Printer::new(net, semantics);
+    printed(Printer::new(net, semantics))
+}
+
+/// The printed model of a GenoM3 network (`semantics`: which one, for the
+/// header). Its queries are those that hold on a correct GenoM3
+/// component: no `A[] not deadlock`, since a GenoM3 component can stop
+/// for good without fault (a permanent codel that throws, or `kill`,
+/// ends its tasks), and the overrun queries speak of tasks.
+pub fn render_genom3(net: &Network, semantics: &str) -> Exported {
+    printed(Printer {
+        genom3: true,
+        ..Printer::new(net, semantics)
+    })
+}
+
+fn printed(mut p: Printer<'_>) -> Exported {
     let xml = p.xml();
     let queries = p.query_file();
     Exported {
@@ -87,6 +103,8 @@ struct Printer<'a> {
     templates: Vec<String>,
     /// Edge function names, by process and edge (`None`: no function).
     functions: Vec<Vec<Option<String>>>,
+    /// A GenoM3 network: GenoM3's queries.
+    genom3: bool,
 }
 
 impl<'a> Printer<'a> {
@@ -115,6 +133,7 @@ impl<'a> Printer<'a> {
             hurry,
             templates,
             functions,
+            genom3: false,
         }
     }
 
@@ -470,10 +489,14 @@ impl<'a> Printer<'a> {
 
     fn queries(&self) -> Vec<Query> {
         let net = self.net;
-        let mut out = vec![Query {
-            formula: "A[] not deadlock".to_owned(),
-            comment: "no deadlock (a thread overrun or a missed max-time is a terminal state, so it shows here too)".to_owned(),
-        }];
+        let mut out = Vec::new();
+        if !self.genom3 {
+            out.push(Query {
+                formula: "A[] not deadlock".to_owned(),
+                comment: "no deadlock (a thread overrun or a missed max-time is a terminal state, so it shows here too)".to_owned(),
+            });
+        }
+        let thread = if self.genom3 { "task" } else { "thread" };
         let place = |l: &genom_model::timed_automata::Label| {
             let p = net.process(l.process);
             format!(
@@ -514,7 +537,7 @@ impl<'a> Printer<'a> {
                 ),
                 LabelKind::Overrun(_) => (
                     format!("A[] not {at}"),
-                    format!("{}: the thread never overruns its period", l.name),
+                    format!("{}: the {thread} never overruns its period", l.name),
                 ),
             };
             out.push(Query { formula, comment });

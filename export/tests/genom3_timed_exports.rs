@@ -226,7 +226,12 @@ fn uppaal_queries_ask_the_labels_of_the_tchecker_export() {
         let uppaal = export(Format::Uppaal, &c);
         assert!(uppaal.main.contains("GenoM3's timed semantics"), "{name}");
         let queries = uppaal_queries(&uppaal.main, &net);
-        assert_eq!(queries[0], "A[] not deadlock", "{name}");
+        // A GenoM3 component may stop for good without fault: no
+        // deadlock query.
+        assert!(
+            !queries.iter().any(|q| q.contains("deadlock")),
+            "{name}: {queries:?}"
+        );
         // One query per label, over every location it marks.
         let mut places: BTreeMap<&str, Vec<String>> = BTreeMap::new();
         for l in &net.labels {
@@ -247,11 +252,7 @@ fn uppaal_queries_ask_the_labels_of_the_tchecker_export() {
             assert!(queries.contains(&q), "{name}: {q} for {}", l.name);
             asked.insert(l.name.clone());
         }
-        assert_eq!(
-            queries.len(),
-            places.len() + 1,
-            "{name}: one query per label"
-        );
+        assert_eq!(queries.len(), places.len(), "{name}: one query per label");
         assert_eq!(asked, labels, "{name}");
         let (suffix, q_file) = &uppaal.extra[0];
         assert_eq!(suffix, ".q");
