@@ -80,8 +80,9 @@ impl Format {
     /// The language whose execution semantics the export of a component
     /// written in `dialect` encodes: the one place an export's translation
     /// is chosen by language. The timed automata (`uppaal`, `tchecker`),
-    /// `promela` and the runtime configuration (`config`) encode each
-    /// language's own; the Petri nets and Fiacre LANGUAGE.md's only; the diagrams draw the
+    /// `promela`, the Petri nets (`pnml`, `tina`: GenoM3's untimed) and the
+    /// runtime configuration (`config`) encode each language's own; Fiacre
+    /// LANGUAGE.md's only; the diagrams draw the
     /// structure, the same in both.
     pub fn semantics(self, dialect: Dialect) -> Dialect {
         match self {
@@ -89,9 +90,11 @@ impl Format {
             | Format::Tchecker
             | Format::Promela
             | Format::Config
+            | Format::Pnml
+            | Format::Tina
             | Format::Dot
             | Format::Svg => dialect,
-            Format::Fiacre | Format::Pnml | Format::Tina => Dialect::Gen,
+            Format::Fiacre => Dialect::Gen,
         }
     }
 

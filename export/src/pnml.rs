@@ -32,10 +32,11 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use genom_model::behaviour::Behaviour;
-use genom_model::component::Idx;
-use genom_model::petri::{PetriNet, Place, PlaceKind, Transition, TransitionKind};
+use genom_model::component::{Component, Idx};
+use genom_model::petri::{G3Place, G3Step, PetriNet, Place, PlaceKind, Transition, TransitionKind};
 use genom_model::{SourceMap, Span};
 use genom_translate::petri::BuildPetriNet;
+use genom_translate::petri_genom3::BuildGenom3PetriNet;
 
 use crate::{ExportError, ExportInput, Exported};
 
@@ -46,11 +47,53 @@ pub const PTNET: &str = "http://www.pnml.org/version-2009/grammar/ptnet";
 /// The `tool` attribute of genom-check's `<toolspecific>` elements.
 pub const TOOL: &str = "genom-check";
 
+/// The Petri net the `pnml` and `tina` exports print: the component's in
+/// its own language's untimed semantics, with the priority levels it uses
+/// and what its stable markings are.
+pub(crate) struct NetOf {
+    /// The net.
+    pub net: PetriNet,
+    /// Its priority levels: value, name, meaning (highest first).
+    pub levels: &'static [(u8, &'static str, &'static str)],
+    /// What its reachable stable markings are, as a sentence.
+    pub semantics: &'static str,
+}
+
+impl NetOf {
+    /// The net of `c`: GenoM3's (`PetriNet::build_genom3`) for a GenoM3
+    /// component, LANGUAGE.md's (`PetriNet::build`) otherwise.
+    pub(crate) fn of(c: &Component) -> NetOf {
+        match PetriNet::build_genom3(c) {
+            Some(net) => NetOf {
+                net,
+                levels: &GENOM3_LEVELS,
+                semantics: "Untimed semantics of GenoM3 (docs/genom3-semantics.md section 14, one instance per activity): \
+                            the reachable stable markings (no transition of priority above 0 enabled) are the states \
+                            after each step of genom-check's untimed GenoM3 model.",
+            },
+            None => NetOf {
+                net: PetriNet::build(c, &Behaviour::new(c)),
+                levels: &LEVELS,
+                semantics: "Untimed semantics of LANGUAGE.md section 3: the reachable stable markings \
+                            (no transition of priority above 0 enabled) are the configurations of genom-check's explorer.",
+            },
+        }
+    }
+
+    /// The name of a priority level.
+    pub(crate) fn level_name(&self, level: u8) -> &'static str {
+        self.levels
+            .iter()
+            .find(|l| l.0 == level)
+            .map_or("level", |l| l.1)
+    }
+}
+
 /// Exports the component's Petri net as PNML.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     let c = input.component;
-    let behaviour = Behaviour::new(c);
-    let net = PetriNet::build(c, &behaviour);
+    let of = NetOf::of(c);
+    let net = &of.net;
     let version = tool_version(input);
     let mut ids = Ids::default();
     let place_ids: Vec<String> = net.places.iter().map(|p| ids.take(&p.name)).collect();
@@ -74,7 +117,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     let _ = writeln!(out, "<pnml xmlns=\"{NAMESPACE}\">");
     let _ = writeln!(out, "  <net id=\"{}\" type=\"{PTNET}\">", attr(&net_id));
     let _ = writeln!(out, "    <name><text>{}</text></name>", text(&c.name.name));
-    net_toolspecific(&mut out, input, &version);
+    net_toolspecific(&mut out, input, &version, &of);
     out.push_str("    <page id=\"");
     out.push_str(&attr(&ids.take("page")));
     out.push_str("\">\n");
@@ -96,7 +139,7 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
             &transition_ids[k],
             &place_ids,
             input.sources,
-            &version,
+            (&version, of.level_name(t.priority)),
         );
     }
     for (k, t) in net.transitions.iter().enumerate() {
@@ -126,21 +169,18 @@ pub(crate) fn tool_version(input: &ExportInput<'_>) -> String {
     }
 }
 
-fn net_toolspecific(out: &mut String, input: &ExportInput<'_>, version: &str) {
+fn net_toolspecific(out: &mut String, input: &ExportInput<'_>, version: &str, of: &NetOf) {
     let v = input.verification;
     let _ = writeln!(
         out,
         "    <toolspecific tool=\"{TOOL}\" version=\"{}\">",
         attr(version)
     );
-    out.push_str(
-        "      <semantics>Untimed semantics of LANGUAGE.md section 3: the reachable stable markings \
-         (no transition of priority above 0 enabled) are the configurations of genom-check's explorer.</semantics>\n",
-    );
+    let _ = writeln!(out, "      <semantics>{}</semantics>", text(of.semantics));
     out.push_str(
         "      <priorities rule=\"a transition may fire only when no transition of a higher level is enabled\">\n",
     );
-    for (level, name, what) in LEVELS {
+    for (level, name, what) in of.levels {
         let _ = writeln!(
             out,
             "        <level value=\"{level}\" name=\"{name}\">{}</level>",
@@ -185,7 +225,27 @@ pub(crate) const LEVELS: [(u8, &str, &str); 5] = [
     ),
 ];
 
-/// The name of a priority level.
+/// The priority levels of a GenoM3 net.
+pub(crate) const GENOM3_LEVELS: [(u8, &str, &str); 4] = [
+    (3, "micro", "the micro-steps of an atomic sequence"),
+    (
+        2,
+        "reexamine",
+        "pending interrupters re-examine after an instance ended (5.3)",
+    ),
+    (
+        1,
+        "settle",
+        "the boot order and the shutdown sequence (10.1, 10.2)",
+    ),
+    (
+        0,
+        "step",
+        "the steps of docs/genom3-semantics.md 14.2: permanent codels, requests, functions, starts, codels",
+    ),
+];
+
+/// The name of a priority level of a LANGUAGE.md net.
 pub(crate) fn level_name(level: u8) -> &'static str {
     LEVELS
         .iter()
@@ -229,7 +289,7 @@ fn write_transition(
     id: &str,
     place_ids: &[String],
     sources: &SourceMap,
-    version: &str,
+    (version, level): (&str, &str),
 ) {
     let _ = writeln!(out, "      <transition id=\"{}\">", attr(id));
     let _ = writeln!(out, "        <name><text>{}</text></name>", text(&t.label));
@@ -242,7 +302,7 @@ fn write_transition(
         out,
         "          <priority level=\"{}\" name=\"{}\"/>",
         t.priority,
-        level_name(t.priority)
+        attr(level)
     );
     let _ = writeln!(out, "          <kind>{}</kind>", transition_kind(t.kind));
     let source = source_element(sources, t.span);
@@ -332,6 +392,14 @@ pub(crate) fn place_kind(kind: PlaceKind) -> &'static str {
         PlaceKind::Request(..) => "request-stage",
         PlaceKind::InitDone => "init-done",
         PlaceKind::InitNotDone => "init-not-done",
+        PlaceKind::Genom3(k) => match k {
+            G3Place::Phase => "phase",
+            G3Place::Task => "task-state",
+            G3Place::Activity => "activity-state",
+            G3Place::Done => "completion",
+            G3Place::Ended => "ended",
+            G3Place::Stage => "stage",
+        },
     }
 }
 
@@ -347,6 +415,15 @@ pub(crate) fn transition_kind(kind: TransitionKind) -> &'static str {
         TransitionKind::Begin(..) => "begin",
         TransitionKind::Finish(..) => "finish",
         TransitionKind::Watchdog(..) => "watchdog",
+        TransitionKind::Genom3(k) => match k {
+            G3Step::Permanent => "permanent-codel",
+            G3Step::Accept => "accept",
+            G3Step::Call => "call",
+            G3Step::Start => "start",
+            G3Step::Codel => "codel",
+            G3Step::Micro => "micro-step",
+            G3Step::Settle => "settle",
+        },
     }
 }
 

@@ -6,11 +6,14 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod genom3_untimed;
 #[path = "../petri_common/mod.rs"]
 mod petri_common;
 mod petri_cross_check;
 mod petri_cross_check_generator;
+mod petri_genom3;
 mod spin_diff;
 mod spin_diff_genom3;
 mod tchecker_diff;
 mod tchecker_diff_genom3;
+mod tina_net;

@@ -525,6 +525,7 @@ fn places_and_transitions_are_named_located_and_ranked() {
                 K::ClearWait(..) => PRIORITY_CLEAR,
                 K::RequestStep(_) | K::Acknowledge(_) => PRIORITY_REQUEST,
                 K::Drop(_) => PRIORITY_DROP,
+                K::Genom3(_) => panic!("a GenoM3 transition in a LANGUAGE.md net: {}", t.name),
             };
             assert_eq!(t.priority, level, "{}", t.name);
         }

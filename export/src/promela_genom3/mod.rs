@@ -26,7 +26,7 @@
 //!   reaches them; the loop head is an `end` label.
 
 mod emit;
-mod reading;
+use genom_translate::genom3_reading as reading;
 mod steps;
 
 use crate::{ExportError, ExportInput, Exported};
@@ -119,6 +119,7 @@ mod tests {
         Reading {
             tasks: vec![Task {
                 name: "t".to_owned(),
+                span: genom_model::Span::default(),
                 fsm: Fsm::default(),
             }],
             activities: (0..activities)

@@ -4,6 +4,8 @@
 
 #![allow(clippy::expect_used, dead_code)] // test support; not every test uses all of it
 
+pub mod nets;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

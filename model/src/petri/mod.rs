@@ -73,6 +73,15 @@ pub const PRIORITY_REQUEST: u8 = 3;
 /// Discarding the wait tokens of a removed pending instance.
 pub const PRIORITY_DROP: u8 = 4;
 
+/// GenoM3: the steps of docs/genom3-semantics.md 14.2 (free choices).
+pub const G3_PRIORITY_STEP: u8 = 0;
+/// GenoM3: the boot order and the shutdown sequence (10.1, 10.2).
+pub const G3_PRIORITY_SETTLE: u8 = 1;
+/// GenoM3: pending interrupters re-examine after an end (5.3).
+pub const G3_PRIORITY_REEXAMINE: u8 = 2;
+/// GenoM3: the micro-steps of an atomic sequence.
+pub const G3_PRIORITY_MICRO: u8 = 3;
+
 /// An arc: a place and its weight.
 pub type Arc = (PlaceId, u32);
 
@@ -124,6 +133,49 @@ pub enum PlaceKind {
     InitDone,
     /// Initialisation has not completed yet.
     InitNotDone,
+    /// A place of a GenoM3 component's net.
+    Genom3(G3Place),
+}
+
+/// What a place of a GenoM3 component's net stands for
+/// (`translate/src/petri_genom3/`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum G3Place {
+    /// A phase of the component's life (boot at one task, run, drain, a
+    /// stop path, stopped, failed) or `live` (run, drain or a stop path).
+    Phase,
+    /// A task's permanent activity: off, or at one of its states.
+    Task,
+    /// An activity's instance: idle, delayed, ready, or running or
+    /// stopping at one of its states.
+    Activity,
+    /// A service some `after`/`before` reads has (or has not) completed.
+    Done,
+    /// An instance ended in this step (or not): pending interrupters
+    /// re-examine.
+    Ended,
+    /// A stage of an atomic sequence of micro-steps.
+    Stage,
+}
+
+/// What a transition of a GenoM3 component's net stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum G3Step {
+    /// A permanent codel runs (one of its outcomes).
+    Permanent,
+    /// A request of an activity is accepted.
+    Accept,
+    /// A function or attribute succeeds.
+    Call,
+    /// An accepted instance starts and runs its first codel.
+    Start,
+    /// An instance's codel runs (one of its outcomes).
+    Codel,
+    /// A micro-step of an atomic sequence.
+    Micro,
+    /// What follows every step at once: the boot order, re-examination,
+    /// the shutdown sequence.
+    Settle,
 }
 
 /// A place.
@@ -164,6 +216,8 @@ pub enum TransitionKind {
     /// The watchdog interrupts the instance at this position (`None`: the
     /// pending instance).
     Watchdog(ServiceId, Option<PosId>),
+    /// A transition of a GenoM3 component's net.
+    Genom3(G3Step),
 }
 
 /// A transition.

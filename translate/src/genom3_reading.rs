@@ -1,6 +1,7 @@
-//! The GenoM3 component as the Promela export reads it, from the resolved
-//! [`Component`] and its [`Genom3Info`] only (written independently of the
-//! GenoM3 engine, `checker/engine/src/genom3/`): each task's permanent
+//! The GenoM3 component as the untimed translations (the Promela model,
+//! the Petri net) read it, from the resolved [`Component`] and its
+//! [`Genom3Info`] only (written independently of the GenoM3 engine,
+//! `checker/engine/src/genom3/`): each task's permanent
 //! state machine, each activity's state machine and the activities it
 //! interrupts, the functions and attributes (the built-in `kill` and
 //! `abort_activity` recognised), and `after`/`before`.
@@ -10,6 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use genom_model::component::genom3::{FsmCodel, Genom3Info};
 use genom_model::component::{Component, ServiceId, ThreadId};
 use genom_model::kinds::CodelKind;
+use genom_model::span::Span;
 
 /// Where one yield of a codel leads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,6 +32,8 @@ pub struct State {
     /// Its yields (`pause::` dropped: it changes no untimed verdict,
     /// docs/genom3-semantics.md 14.3), in the written order.
     pub yields: Vec<Next>,
+    /// Where its codel is written.
+    pub span: Span,
 }
 
 /// A codel state machine (an activity's or a task's permanent one).
@@ -57,6 +61,7 @@ impl Fsm {
                         name: s.name.clone(),
                         function: codel.function.name.clone(),
                         yields: Vec::new(),
+                        span: codel.span,
                     });
                     owner.push(k);
                 }
@@ -92,6 +97,8 @@ impl Fsm {
 pub struct Task {
     /// Its name.
     pub name: String,
+    /// Where it is named.
+    pub span: Span,
     /// Its permanent state machine (no state: no permanent codel).
     pub fsm: Fsm,
 }
@@ -163,6 +170,7 @@ impl Reading {
             .iter()
             .map(|&tid| Task {
                 name: c.threads[tid].name.name.clone(),
+                span: c.threads[tid].name.span,
                 fsm: task_fsm(g, tid),
             })
             .collect();
