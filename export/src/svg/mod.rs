@@ -24,7 +24,12 @@
 //! `edge.machine.S.3`, whose arrowhead is `edge.machine.S.3.head`); every
 //! text is escaped, numbers have one decimal, and the output is
 //! deterministic. Laying out cannot fail (see docs/exports/diagrams.md).
+//!
+//! A GenoM3 component is drawn in GenoM3's words instead (tasks, permanent
+//! codels, activities, `pause::`, `ether`, the control task's table): see
+//! `genom3`.
 
+mod genom3;
 mod geometry;
 mod layout;
 mod render;
@@ -57,13 +62,20 @@ const CLUSTER_LINE: &str = "#85929e";
 
 /// Exports the component's diagrams as one SVG document.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let d = Diagrams::build(input.component);
-    let mut parts: Vec<Part> = vec![overview(&d), overview_legend(&d)];
-    for m in &d.machines {
-        parts.push(machine(m));
-    }
-    parts.push(machine_legend());
-    let text = document(&d.component, &tool_version(input), &parts);
+    let c = input.component;
+    let parts = match &c.genom3 {
+        Some(g) => genom3::parts(&crate::dot::genom3::G3Diagrams::build(c, g)),
+        None => {
+            let d = Diagrams::build(c);
+            let mut parts: Vec<Part> = vec![overview(&d), overview_legend(&d)];
+            for m in &d.machines {
+                parts.push(machine(m));
+            }
+            parts.push(machine_legend());
+            parts
+        }
+    };
+    let text = document(&c.name.name, &tool_version(input), &parts);
     let verified = input.verification.verified;
     Ok(Exported::single(crate::mark_unverified(
         text,
