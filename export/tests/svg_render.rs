@@ -96,13 +96,26 @@ fn collect(g: &usvg::Group, scene: &mut Scene) {
     }
 }
 
-/// Node shapes: (id, round).
+/// Node shapes: (id, round). GenoM3 pictures add the event dots and
+/// `ether` (round), the states, `validate`, the permanent codels and the
+/// control task's table (boxes).
 fn is_node(id: &str) -> Option<bool> {
-    if id.starts_with("request.") || id.starts_with("end.") {
-        Some(true)
-    } else if ["service.", "codel.", "report."]
+    if ["request.", "end.", "event.", "ether."]
         .iter()
         .any(|p| id.starts_with(p))
+    {
+        Some(true)
+    } else if [
+        "service.",
+        "codel.",
+        "report.",
+        "state.",
+        "validate.",
+        "permanent.",
+        "table.",
+    ]
+    .iter()
+    .any(|p| id.starts_with(p))
     {
         Some(false)
     } else {
@@ -136,6 +149,42 @@ fn inside(t: &usvg::Rect, b: &usvg::Rect, round: bool) -> bool {
     .all(|&(x, y)| ((x - cx) / rx).powi(2) + ((y - cy) / ry).powi(2) < 1.0)
 }
 
+/// A cluster: `thread.T` (the dialect), `cluster.task.T` or
+/// `cluster.control` (GenoM3).
+fn is_cluster(id: &str) -> bool {
+    id.starts_with("thread.") || id.starts_with("cluster.")
+}
+
+/// The cluster expected to hold each box of a GenoM3 picture: each
+/// activity (`service.A`) in its task's (`cluster.task.T`), each task's
+/// permanent codels (`permanent.T`) in it, the functions and attributes'
+/// table (`table.control`) in the control task's (`cluster.control`).
+fn expected_genom3_clusters(result: &CheckResult) -> Vec<(String, String)> {
+    let c = result.component.as_ref().expect("component");
+    let g = c.genom3.as_ref().expect("a GenoM3 component");
+    let task = |t: &str| format!("cluster.task.{t}");
+    let mut out = Vec::new();
+    for t in g.tasks.iter().filter(|t| !t.codels.is_empty()) {
+        let name = &c.threads[t.thread].name.name;
+        out.push((format!("permanent.{name}"), task(name)));
+    }
+    for i in &g.services {
+        let s = &c.services[i.service];
+        if i.kind != "activity" {
+            continue;
+        }
+        let cluster = s.thread.map_or_else(
+            || "cluster.control".to_owned(),
+            |t| task(&c.threads[t.id].name.name),
+        );
+        out.push((format!("service.{}", s.name.name), cluster));
+    }
+    if g.services.iter().any(|i| i.kind != "activity") {
+        out.push(("table.control".to_owned(), "cluster.control".to_owned()));
+    }
+    out
+}
+
 /// The cluster expected to hold each service: `service.S` -> `thread.T`.
 fn expected_clusters(result: &CheckResult) -> Vec<(String, String)> {
     let c = result.component.as_ref().expect("component");
@@ -167,12 +216,14 @@ fn check_texts(name: &str, scene: &Scene) {
         .shapes
         .iter()
         .filter_map(|(id, s)| {
-            let round = is_node(id).or_else(|| id.starts_with("thread.").then_some(false))?;
+            let round = is_node(id).or_else(|| is_cluster(id).then_some(false))?;
             Some((id, s, round))
         })
         .collect::<Vec<_>>();
     assert!(
-        borders.iter().any(|(id, _, _)| id.starts_with("codel.")),
+        borders
+            .iter()
+            .any(|(id, _, _)| id.starts_with("codel.") || id.starts_with("state.")),
         "{name}: no codel node"
     );
     for (id, shape, round) in &borders {
@@ -183,7 +234,7 @@ fn check_texts(name: &str, scene: &Scene) {
                 shape.bbox
             );
         }
-        if !id.starts_with("request.") {
+        if !id.starts_with("request.") && !id.starts_with("event.") {
             assert!(
                 scene
                     .texts
@@ -222,11 +273,7 @@ fn check_clusters(name: &str, scene: &Scene, expected: &[(String, String)]) {
             .shapes
             .get(service)
             .unwrap_or_else(|| panic!("{name}: no node {service}"));
-        for (id, cluster) in scene
-            .shapes
-            .iter()
-            .filter(|(id, _)| id.starts_with("thread."))
-        {
+        for (id, cluster) in scene.shapes.iter().filter(|(id, _)| is_cluster(id)) {
             if id == thread {
                 assert!(
                     inside(&s.bbox, &cluster.bbox, false),
@@ -247,7 +294,8 @@ fn check_clusters(name: &str, scene: &Scene, expected: &[(String, String)]) {
 }
 
 /// Rasterises the tree and checks that each service box shows its fill
-/// colour just inside its left border (left of its centred label).
+/// colour just inside its left border (left of its centred label); the
+/// GenoM3 table (white, ruled) is left out.
 fn check_raster(name: &str, tree: &usvg::Tree, scene: &Scene, expected: &[(String, String)]) {
     let size = tree.size().to_int_size();
     let mut pixmap =
@@ -259,7 +307,7 @@ fn check_raster(name: &str, tree: &usvg::Tree, scene: &Scene, expected: &[(Strin
         .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
         .count();
     assert!(not_white > 1000, "{name}: the raster is blank");
-    for (service, _) in expected {
+    for (service, _) in expected.iter().filter(|(id, _)| !id.starts_with("table.")) {
         let s = scene.shapes[service];
         let fill = s.fill.expect("a service box is filled");
         let x = (s.bbox.left() + 4.0) as u32;
@@ -307,6 +355,57 @@ fn svg_texts_stay_inside_their_boxes() {
     for path in common::specs() {
         let name = path.display().to_string();
         let result = common::check(&path);
+        let svg = export(&result, Format::Svg);
+        let mut scene = Scene::default();
+        collect(parse(&svg, &fonts).root(), &mut scene);
+        let written = svg.matches("<text ").count();
+        assert_eq!(scene.texts.len(), written, "{name}: texts were dropped");
+        check_texts(&name, &scene);
+    }
+}
+
+/// The GenoM3 pictures to check: the diagram fixtures, and `uavatt` when
+/// the corpus is there.
+fn genom3_pictures() -> Vec<(String, CheckResult)> {
+    let mut out: Vec<(String, CheckResult)> = common::GENOM3_DIAGRAM_FIXTURES
+        .iter()
+        .map(|p| ((*p).to_owned(), common::check_genom3_fixture(Path::new(p))))
+        .collect();
+    if let Some(uavatt) = common::check_uavatt() {
+        out.push((common::UAVATT.to_owned(), uavatt));
+    }
+    out
+}
+
+#[test]
+fn genom3_svg_pictures_render_with_coloured_heads_and_task_clusters() {
+    let fonts = fonts();
+    for (name, result) in genom3_pictures() {
+        let svg = export(&result, Format::Svg);
+        let tree = parse(&svg, &fonts);
+        let mut scene = Scene::default();
+        collect(tree.root(), &mut scene);
+        let expected = expected_genom3_clusters(&result);
+        check_heads(&name, &scene);
+        check_clusters(&name, &scene, &expected);
+        check_raster(&name, &tree, &scene, &expected);
+    }
+}
+
+/// As `svg_texts_stay_inside_their_boxes`, on the GenoM3 pictures (the
+/// table's cells included).
+#[test]
+#[cfg_attr(
+    not(genom_fonts),
+    ignore = "no system font: install one (e.g. fonts-dejavu-core) to check the texts"
+)]
+fn genom3_svg_texts_stay_inside_their_boxes() {
+    let fonts = fonts();
+    assert!(
+        !fonts.is_empty(),
+        "no system font: install one (e.g. fonts-dejavu-core) to check the texts"
+    );
+    for (name, result) in genom3_pictures() {
         let svg = export(&result, Format::Svg);
         let mut scene = Scene::default();
         collect(parse(&svg, &fonts).root(), &mut scene);

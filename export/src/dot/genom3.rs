@@ -569,14 +569,15 @@ fn codel_lines(f: &FsmCodel, wcet: Option<u64>) -> Vec<String> {
 fn permanent(task: &str, detail: &str, codels: &[FsmCodel], group: usize) -> G3Machine {
     let mut b = MachineBuilder::new(format!("task-{task}"));
     let spawn = b.event("spawn");
-    let kill = b.event("kill");
     let (by_name, _) = b.states(codels, &|_, f| f.wcet.map(|w| w.ns));
     let find = |name: &str| by_name.iter().find(|(n, _)| n == name).map(|e| e.1);
     if let Some(start) = find("start") {
         b.edge(spawn, start, G3EdgeKind::Event, "component start");
     }
     if let Some(stop) = find("stop") {
+        let kill = b.event("kill");
         b.edge(kill, stop, G3EdgeKind::Interrupt, "kill");
+        move_to(&mut b, kill, 1);
     }
     finish(
         b,

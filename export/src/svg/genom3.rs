@@ -11,6 +11,8 @@
 //! edges are dashed and labelled `pause`, interrupts and `kill` dotted,
 //! `async` states have a second border.
 
+use std::fmt::Write as _;
+
 use super::geometry::{ClusterIn, Input, NodeIn, Rect};
 use super::layout;
 use super::render::{Canvas, FONT, TextStyle, block_size, line_height, text_width};
@@ -96,16 +98,17 @@ impl Table {
         let mut x = r.x;
         for w in &self.columns[..self.columns.len().saturating_sub(1)] {
             x += w;
-            grid.push_str(&format!("M {x:.1} {:.1} V {:.1} ", r.y, r.bottom()));
+            let _ = write!(grid, "M {x:.1} {:.1} V {:.1} ", r.y, r.bottom());
         }
         for k in 1..self.rows {
             let y = r.y + self.row * k as f64;
-            grid.push_str(&format!("M {:.1} {y:.1} H {:.1} ", r.x, r.right()));
+            let _ = write!(grid, "M {:.1} {y:.1} H {:.1} ", r.x, r.right());
         }
-        c.body.push_str(&format!(
-            "<path class=\"grid\" d=\"{}\" fill=\"none\" stroke=\"{CLUSTER_LINE}\"/>\n",
+        let _ = writeln!(
+            c.body,
+            "<path class=\"grid\" d=\"{}\" fill=\"none\" stroke=\"{CLUSTER_LINE}\"/>",
             grid.trim_end()
-        ));
+        );
         let header: Vec<String> = TABLE_HEADER.iter().map(|h| (*h).to_owned()).collect();
         let rows = std::iter::once(header.as_slice())
             .chain(d.overview.table.rows.iter().map(|r| r.as_slice()));
