@@ -12,6 +12,13 @@
 //!   that runs it (the control thread's for services without start codel)
 //!   and outside every other cluster;
 //! - the raster shows each service box in its thread's colour.
+//!
+//! The same checks run on the GenoM3 pictures of
+//! `common::GENOM3_DIAGRAM_FIXTURES` (and of `uavatt` when the corpus is
+//! there), where the clusters are tasks (`cluster.task.T`, the control
+//! task's `cluster.control`) holding each activity and permanent-codels
+//! box, and the control task holds the functions' and attributes' table;
+//! the event dots carry no text.
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
@@ -457,4 +464,50 @@ fn the_checks_catch_broken_pictures() {
         &scene_of(&shrunk),
         &expected
     )));
+}
+
+/// The checks catch a broken GenoM3 picture: a state's label moved onto
+/// its border, an activity's task cluster shrunk to nothing, a black
+/// arrowhead on a blue `pause` edge.
+#[test]
+fn the_checks_catch_broken_genom3_pictures() {
+    let fonts = fonts();
+    let path = Path::new(common::GENOM3_DIAGRAM_FIXTURES[3]);
+    let result = common::check_genom3_fixture(path);
+    let svg = export(&result, Format::Svg);
+    let expected = expected_genom3_clusters(&result);
+    let scene_of = |svg: &str| {
+        let mut scene = Scene::default();
+        collect(parse(svg, &fonts).root(), &mut scene);
+        scene
+    };
+    let fails = |f: &dyn Fn()| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).is_err();
+    check_clusters("intact", &scene_of(&svg), &expected);
+    check_heads("intact", &scene_of(&svg));
+    if !fonts.is_empty() {
+        check_texts("intact", &scene_of(&svg));
+        let at = svg.find("id=\"state.servo.main\"").expect("a state");
+        let label = at + svg[at..].find("class=\"label\" x=\"").expect("its label");
+        let y_at = label + svg[label..].find(" y=\"").expect("its y") + 4;
+        let y_end = y_at + svg[y_at..].find('"').expect("its end");
+        let y: f64 = svg[y_at..y_end].parse().expect("a number");
+        let moved = format!("{}{:.1}{}", &svg[..y_at], y - 14.0, &svg[y_end..]);
+        assert!(fails(&|| check_texts("moved", &scene_of(&moved))));
+    }
+    let at = svg.find("id=\"cluster.task.t\"").expect("a task cluster");
+    let w_at = at + svg[at..].find(" width=\"").expect("its width") + 8;
+    let w_end = w_at + svg[w_at..].find('"').expect("its end");
+    let shrunk = format!("{}1.0{}", &svg[..w_at], &svg[w_end..]);
+    assert!(fails(&|| check_clusters(
+        "shrunk",
+        &scene_of(&shrunk),
+        &expected
+    )));
+    let black = svg.replacen(
+        "fill=\"#2874a6\" stroke=\"none\"",
+        "fill=\"#1c2833\" stroke=\"none\"",
+        1,
+    );
+    assert_ne!(black, svg, "f6 has a pause edge");
+    assert!(fails(&|| check_heads("black", &scene_of(&black))));
 }
