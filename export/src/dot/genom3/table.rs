@@ -73,10 +73,10 @@ fn row(c: &Component, g: &Genom3Info, sid: ServiceId, s: &Service, kind: &str) -
         .filter(|&&k| c.codels.get(k).is_some_and(|k| k.name.name != "validate"))
         .map(|&k| codel_cell(c, g, k))
         .collect();
-    let codels = if codels.is_empty() && kind == "attribute" {
-        "(copies its parameters)".to_owned()
-    } else {
-        codels.join(", ")
+    let codels = match (codels.is_empty(), kind) {
+        (true, "attribute") => "(copies its parameters)".to_owned(),
+        (true, _) => "(none)".to_owned(),
+        (false, _) => codels.join(", "),
     };
     [
         kind.to_owned(),
