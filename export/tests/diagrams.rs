@@ -10,9 +10,7 @@ mod common;
 use common::export;
 
 use std::collections::BTreeSet;
-use std::io::Write as _;
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 use genom_export::Format;
 use genom_model::component::Component;
@@ -95,41 +93,8 @@ fn dot_of_every_spec() {
                 }
             }
         }
-        graphviz_accepts(&text, &path);
+        common::graphviz_accepts(&text, &path);
     }
-}
-
-/// Renders the DOT text with Graphviz, when it is installed, and checks
-/// that the result is XML.
-fn graphviz_accepts(text: &str, path: &Path) {
-    let Ok(mut child) = Command::new("dot")
-        .arg("-Tsvg")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-    else {
-        return; // Graphviz is not installed: nothing to compare with.
-    };
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(text.as_bytes())
-        .expect("write to dot");
-    let out = child.wait_with_output().expect("dot runs");
-    assert!(
-        out.status.success(),
-        "{}: dot failed: {}",
-        path.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let svg = String::from_utf8(out.stdout).expect("UTF-8");
-    let options = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..roxmltree::ParsingOptions::default()
-    };
-    roxmltree::Document::parse_with_options(&svg, options).expect("Graphviz's SVG is XML");
 }
 
 /// Every piece of text of an SVG document.

@@ -12,6 +12,13 @@
 //!   that runs it (the control thread's for services without start codel)
 //!   and outside every other cluster;
 //! - the raster shows each service box in its thread's colour.
+//!
+//! The same checks run on the GenoM3 pictures of
+//! `common::GENOM3_DIAGRAM_FIXTURES` (and of `uavatt` when the corpus is
+//! there), where the clusters are tasks (`cluster.task.T`, the control
+//! task's `cluster.control`) holding each activity and permanent-codels
+//! box, and the control task holds the functions' and attributes' table;
+//! the event dots carry no text.
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
@@ -96,13 +103,26 @@ fn collect(g: &usvg::Group, scene: &mut Scene) {
     }
 }
 
-/// Node shapes: (id, round).
+/// Node shapes: (id, round). GenoM3 pictures add the event dots and
+/// `ether` (round), the states, `validate`, the permanent codels and the
+/// control task's table (boxes).
 fn is_node(id: &str) -> Option<bool> {
-    if id.starts_with("request.") || id.starts_with("end.") {
-        Some(true)
-    } else if ["service.", "codel.", "report."]
+    if ["request.", "end.", "event.", "ether."]
         .iter()
         .any(|p| id.starts_with(p))
+    {
+        Some(true)
+    } else if [
+        "service.",
+        "codel.",
+        "report.",
+        "state.",
+        "validate.",
+        "permanent.",
+        "table.",
+    ]
+    .iter()
+    .any(|p| id.starts_with(p))
     {
         Some(false)
     } else {
@@ -136,6 +156,42 @@ fn inside(t: &usvg::Rect, b: &usvg::Rect, round: bool) -> bool {
     .all(|&(x, y)| ((x - cx) / rx).powi(2) + ((y - cy) / ry).powi(2) < 1.0)
 }
 
+/// A cluster: `thread.T` (the dialect), `cluster.task.T` or
+/// `cluster.control` (GenoM3).
+fn is_cluster(id: &str) -> bool {
+    id.starts_with("thread.") || id.starts_with("cluster.")
+}
+
+/// The cluster expected to hold each box of a GenoM3 picture: each
+/// activity (`service.A`) in its task's (`cluster.task.T`), each task's
+/// permanent codels (`permanent.T`) in it, the functions and attributes'
+/// table (`table.control`) in the control task's (`cluster.control`).
+fn expected_genom3_clusters(result: &CheckResult) -> Vec<(String, String)> {
+    let c = result.component.as_ref().expect("component");
+    let g = c.genom3.as_ref().expect("a GenoM3 component");
+    let task = |t: &str| format!("cluster.task.{t}");
+    let mut out = Vec::new();
+    for t in g.tasks.iter().filter(|t| !t.codels.is_empty()) {
+        let name = &c.threads[t.thread].name.name;
+        out.push((format!("permanent.{name}"), task(name)));
+    }
+    for i in &g.services {
+        let s = &c.services[i.service];
+        if i.kind != "activity" {
+            continue;
+        }
+        let cluster = s.thread.map_or_else(
+            || "cluster.control".to_owned(),
+            |t| task(&c.threads[t.id].name.name),
+        );
+        out.push((format!("service.{}", s.name.name), cluster));
+    }
+    if g.services.iter().any(|i| i.kind != "activity") {
+        out.push(("table.control".to_owned(), "cluster.control".to_owned()));
+    }
+    out
+}
+
 /// The cluster expected to hold each service: `service.S` -> `thread.T`.
 fn expected_clusters(result: &CheckResult) -> Vec<(String, String)> {
     let c = result.component.as_ref().expect("component");
@@ -167,12 +223,14 @@ fn check_texts(name: &str, scene: &Scene) {
         .shapes
         .iter()
         .filter_map(|(id, s)| {
-            let round = is_node(id).or_else(|| id.starts_with("thread.").then_some(false))?;
+            let round = is_node(id).or_else(|| is_cluster(id).then_some(false))?;
             Some((id, s, round))
         })
         .collect::<Vec<_>>();
     assert!(
-        borders.iter().any(|(id, _, _)| id.starts_with("codel.")),
+        borders
+            .iter()
+            .any(|(id, _, _)| id.starts_with("codel.") || id.starts_with("state.")),
         "{name}: no codel node"
     );
     for (id, shape, round) in &borders {
@@ -183,7 +241,7 @@ fn check_texts(name: &str, scene: &Scene) {
                 shape.bbox
             );
         }
-        if !id.starts_with("request.") {
+        if !id.starts_with("request.") && !id.starts_with("event.") {
             assert!(
                 scene
                     .texts
@@ -222,11 +280,7 @@ fn check_clusters(name: &str, scene: &Scene, expected: &[(String, String)]) {
             .shapes
             .get(service)
             .unwrap_or_else(|| panic!("{name}: no node {service}"));
-        for (id, cluster) in scene
-            .shapes
-            .iter()
-            .filter(|(id, _)| id.starts_with("thread."))
-        {
+        for (id, cluster) in scene.shapes.iter().filter(|(id, _)| is_cluster(id)) {
             if id == thread {
                 assert!(
                     inside(&s.bbox, &cluster.bbox, false),
@@ -247,7 +301,8 @@ fn check_clusters(name: &str, scene: &Scene, expected: &[(String, String)]) {
 }
 
 /// Rasterises the tree and checks that each service box shows its fill
-/// colour just inside its left border (left of its centred label).
+/// colour just inside its left border (left of its centred label); the
+/// GenoM3 table (white, ruled) is left out.
 fn check_raster(name: &str, tree: &usvg::Tree, scene: &Scene, expected: &[(String, String)]) {
     let size = tree.size().to_int_size();
     let mut pixmap =
@@ -259,7 +314,7 @@ fn check_raster(name: &str, tree: &usvg::Tree, scene: &Scene, expected: &[(Strin
         .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
         .count();
     assert!(not_white > 1000, "{name}: the raster is blank");
-    for (service, _) in expected {
+    for (service, _) in expected.iter().filter(|(id, _)| !id.starts_with("table.")) {
         let s = scene.shapes[service];
         let fill = s.fill.expect("a service box is filled");
         let x = (s.bbox.left() + 4.0) as u32;
@@ -316,6 +371,57 @@ fn svg_texts_stay_inside_their_boxes() {
     }
 }
 
+/// The GenoM3 pictures to check: the diagram fixtures, and `uavatt` when
+/// the corpus is there.
+fn genom3_pictures() -> Vec<(String, CheckResult)> {
+    let mut out: Vec<(String, CheckResult)> = common::GENOM3_DIAGRAM_FIXTURES
+        .iter()
+        .map(|p| ((*p).to_owned(), common::check_genom3_fixture(Path::new(p))))
+        .collect();
+    if let Some(uavatt) = common::check_uavatt() {
+        out.push((common::UAVATT.to_owned(), uavatt));
+    }
+    out
+}
+
+#[test]
+fn genom3_svg_pictures_render_with_coloured_heads_and_task_clusters() {
+    let fonts = fonts();
+    for (name, result) in genom3_pictures() {
+        let svg = export(&result, Format::Svg);
+        let tree = parse(&svg, &fonts);
+        let mut scene = Scene::default();
+        collect(tree.root(), &mut scene);
+        let expected = expected_genom3_clusters(&result);
+        check_heads(&name, &scene);
+        check_clusters(&name, &scene, &expected);
+        check_raster(&name, &tree, &scene, &expected);
+    }
+}
+
+/// As `svg_texts_stay_inside_their_boxes`, on the GenoM3 pictures (the
+/// table's cells included).
+#[test]
+#[cfg_attr(
+    not(genom_fonts),
+    ignore = "no system font: install one (e.g. fonts-dejavu-core) to check the texts"
+)]
+fn genom3_svg_texts_stay_inside_their_boxes() {
+    let fonts = fonts();
+    assert!(
+        !fonts.is_empty(),
+        "no system font: install one (e.g. fonts-dejavu-core) to check the texts"
+    );
+    for (name, result) in genom3_pictures() {
+        let svg = export(&result, Format::Svg);
+        let mut scene = Scene::default();
+        collect(parse(&svg, &fonts).root(), &mut scene);
+        let written = svg.matches("<text ").count();
+        assert_eq!(scene.texts.len(), written, "{name}: texts were dropped");
+        check_texts(&name, &scene);
+    }
+}
+
 /// The checks catch what they are for: a label moved onto its box's
 /// border, a black arrowhead on a red edge, a service outside its cluster.
 #[test]
@@ -358,4 +464,50 @@ fn the_checks_catch_broken_pictures() {
         &scene_of(&shrunk),
         &expected
     )));
+}
+
+/// The checks catch a broken GenoM3 picture: a state's label moved onto
+/// its border, an activity's task cluster shrunk to nothing, a black
+/// arrowhead on a blue `pause` edge.
+#[test]
+fn the_checks_catch_broken_genom3_pictures() {
+    let fonts = fonts();
+    let path = Path::new(common::GENOM3_DIAGRAM_FIXTURES[3]);
+    let result = common::check_genom3_fixture(path);
+    let svg = export(&result, Format::Svg);
+    let expected = expected_genom3_clusters(&result);
+    let scene_of = |svg: &str| {
+        let mut scene = Scene::default();
+        collect(parse(svg, &fonts).root(), &mut scene);
+        scene
+    };
+    let fails = |f: &dyn Fn()| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).is_err();
+    check_clusters("intact", &scene_of(&svg), &expected);
+    check_heads("intact", &scene_of(&svg));
+    if !fonts.is_empty() {
+        check_texts("intact", &scene_of(&svg));
+        let at = svg.find("id=\"state.servo.main\"").expect("a state");
+        let label = at + svg[at..].find("class=\"label\" x=\"").expect("its label");
+        let y_at = label + svg[label..].find(" y=\"").expect("its y") + 4;
+        let y_end = y_at + svg[y_at..].find('"').expect("its end");
+        let y: f64 = svg[y_at..y_end].parse().expect("a number");
+        let moved = format!("{}{:.1}{}", &svg[..y_at], y - 14.0, &svg[y_end..]);
+        assert!(fails(&|| check_texts("moved", &scene_of(&moved))));
+    }
+    let at = svg.find("id=\"cluster.task.t\"").expect("a task cluster");
+    let w_at = at + svg[at..].find(" width=\"").expect("its width") + 8;
+    let w_end = w_at + svg[w_at..].find('"').expect("its end");
+    let shrunk = format!("{}1.0{}", &svg[..w_at], &svg[w_end..]);
+    assert!(fails(&|| check_clusters(
+        "shrunk",
+        &scene_of(&shrunk),
+        &expected
+    )));
+    let black = svg.replacen(
+        "fill=\"#2874a6\" stroke=\"none\"",
+        "fill=\"#1c2833\" stroke=\"none\"",
+        1,
+    );
+    assert_ne!(black, svg, "f6 has a pause edge");
+    assert!(fails(&|| check_heads("black", &scene_of(&black))));
 }

@@ -22,6 +22,10 @@
 //! Invisible edges from the overview to each machine put the machines under
 //! the overview. The same [`Diagrams`] model feeds the `svg` export, so both
 //! pictures show the same things.
+//!
+//! A GenoM3 component is drawn in GenoM3's words instead (tasks, permanent
+//! codels, activities, `pause::`, `ether`, the control task's functions and
+//! attributes): see [`genom3`].
 
 use std::fmt::Write as _;
 
@@ -30,14 +34,18 @@ use genom_model::kinds::{CodelKind, ServiceKind};
 
 use crate::{ExportError, ExportInput, Exported};
 
+pub(crate) mod genom3;
 mod text;
 
 use text::*;
 
 /// Exports the component's diagrams as one Graphviz digraph.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
-    let d = Diagrams::build(input.component);
-    let text = render(&d, &crate::pnml::tool_version(input));
+    let version = crate::pnml::tool_version(input);
+    let text = match &input.component.genom3 {
+        Some(g) => genom3::render(&genom3::G3Diagrams::build(input.component, g), &version),
+        None => render(&Diagrams::build(input.component), &version),
+    };
     let verified = input.verification.verified;
     Ok(Exported::single(crate::mark_unverified(
         text,

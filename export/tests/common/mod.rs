@@ -6,7 +6,9 @@
 
 pub mod nets;
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 use std::time::Instant;
 
 use genom_checker::{CheckOptions, Checked};
@@ -96,4 +98,79 @@ pub fn export(result: &CheckResult, format: Format) -> String {
     genom_export::export(format, &input)
         .expect("export succeeds")
         .main
+}
+
+/// The GenoM3 fixtures the diagram tests draw (a permanent task machine,
+/// `pause::` yields, `async`, `validate`, functions, attributes,
+/// exceptions), each with its WCET file when it has one.
+pub const GENOM3_DIAGRAM_FIXTURES: [&str; 5] = [
+    "../tests/fixtures/genom3/timing/f3_permanent_lock.gen",
+    "../tests/fixtures/genom3/response/r4_validate_and_codel.gen",
+    "../tests/fixtures/genom3/timing/f10_restart.gen",
+    "../tests/fixtures/genom3/semantics/f6_interrupt_stop.gen",
+    "../tests/fixtures/genom3/semantics/f8_async.gen",
+];
+
+/// The GenoM3 corpus component `uavatt` (absent on a clean clone).
+pub const UAVATT: &str = "../../shared/corpus/genom3/uavatt-genom3/uavatt.gen";
+
+/// The full check of a GenoM3 diagram fixture, with its WCET file (same
+/// name, `.wcet`) when there is one and the fixtures' include folder.
+pub fn check_genom3_fixture(path: &Path) -> CheckResult {
+    let wcet = path.with_extension("wcet");
+    let wcet = wcet.exists().then_some(wcet);
+    let include = [PathBuf::from("../tests/fixtures/genom3/include")];
+    check_genom3(path, &include, wcet.as_deref(), &CheckOptions::new())
+}
+
+/// `uavatt` checked with its WCET file, or `None` (with the reason on
+/// stderr) when the corpus is not there.
+#[allow(clippy::print_stderr)] // a skipped test says why
+pub fn check_uavatt() -> Option<CheckResult> {
+    let path = Path::new(UAVATT);
+    if !path.exists() {
+        eprintln!("SKIPPED: the GenoM3 corpus is not at {UAVATT} (a clean clone)");
+        return None;
+    }
+    let include = [PathBuf::from("../tests/fixtures/genom3/include")];
+    let wcet = Path::new("../tests/fixtures/genom3/wcet/uavatt.wcet");
+    Some(check_genom3(
+        path,
+        &include,
+        Some(wcet),
+        &CheckOptions::new(),
+    ))
+}
+
+/// Renders the DOT text with Graphviz, when it is installed, and checks
+/// that the result is XML.
+pub fn graphviz_accepts(text: &str, path: &Path) {
+    let Ok(mut child) = Command::new("dot")
+        .arg("-Tsvg")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+    else {
+        return; // Graphviz is not installed: nothing to compare with.
+    };
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(text.as_bytes())
+        .expect("write to dot");
+    let out = child.wait_with_output().expect("dot runs");
+    assert!(
+        out.status.success(),
+        "{}: dot failed: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = String::from_utf8(out.stdout).expect("UTF-8");
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..roxmltree::ParsingOptions::default()
+    };
+    roxmltree::Document::parse_with_options(&svg, options).expect("Graphviz's SVG is XML");
 }
