@@ -27,7 +27,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use genom_check::{CheckOptions, check_source};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::Component;
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 
 /// Cap on the states of one check.
 const MAX_STATES: usize = 1_000_000;

@@ -247,7 +247,7 @@ pub(crate) fn parse_duration(text: &str) -> Result<std::time::Duration, String> 
     let t = text.trim();
     // The language's own literals first (`10ms`, `2min`), then the usual
     // forms (`1h`, `1h 30m`, `90sec`).
-    let parsed = genom_parser::literal::duration_ns(t)
+    let parsed = gen_frontend::literal::duration_ns(t)
         .ok()
         .and_then(|ns| u64::try_from(ns).ok())
         .map(std::time::Duration::from_nanos)

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use genom_model::Dialect;
 use genom_model::frontend::{Frontend, Input, Loaded, Refused};
-use genom_parser::{FsLoader, GenFrontend, LoadError, Loader};
+use gen_frontend::{FsLoader, GenFrontend, LoadError, Loader};
 use genom3_frontend::Genom3Frontend;
 
 pub use genom_checker::CheckOptions;

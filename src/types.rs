@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use genom_model::component::Component;
 use genom_model::{Diagnostic, Dialect, Pragma, ResponseTime, SourceMap, Statistics};
-use genom_parser::LoadError;
+use gen_frontend::LoadError;
 
 pub use genom_model::loader::{STDIN_NAME, display, is_stdin};
 

@@ -33,7 +33,7 @@ mod with_smt {
     use genom_check::CheckOptions;
     use genom_model::Severity;
     use genom_model::component::Component;
-    use genom_parser::FsLoader;
+    use gen_frontend::FsLoader;
     use serde_json::Value;
 
     use super::Command;

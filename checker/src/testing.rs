@@ -8,7 +8,7 @@ use std::time::Instant;
 use genom_model::Code;
 use genom_model::component::Component;
 use genom_model::frontend::{Frontend as _, Input};
-use genom_parser::{GenFrontend, Loader, MemoryLoader};
+use gen_frontend::{GenFrontend, Loader, MemoryLoader};
 use genom_render::{FileReport, human};
 
 use crate::CheckOptions;

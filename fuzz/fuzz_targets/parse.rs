@@ -10,7 +10,7 @@ use genom_check_fuzz::{PATH, assert_spans, loader, render};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|text: &str| {
-    let out = genom_parser::parse_source(Path::new(PATH), text.to_owned(), &loader());
+    let out = gen_frontend::parse_source(Path::new(PATH), text.to_owned(), &loader());
     assert_spans(&out.sources, &out.diagnostics);
     let _ = render(&out.sources, &out.diagnostics, None);
 });

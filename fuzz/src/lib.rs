@@ -3,7 +3,7 @@
 //! loaded file, both renderers total).
 
 use genom_model::{Diagnostic, SourceMap, Span, Statistics};
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 use genom_render::{FileReport, human, json};
 
 /// The path the fuzzed text is checked as.

@@ -3,7 +3,7 @@
 //!
 //! All files of one check share a single offset space (as in rustc): file *n*
 //! occupies `[base_n, base_n + len_n]`, with a one-byte gap between files, so
-//! a `Span` alone identifies its file. Nothing outside `parser/` ever sees a
+//! a `Span` alone identifies its file. Nothing outside `gen-frontend/` ever sees a
 //! pest type; spans are converted at the parser boundary.
 
 use std::path::{Path, PathBuf};

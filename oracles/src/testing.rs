@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use genom_model::component::Component;
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 
 /// A valid LANGUAGE.md component header and thread for snippets.
 pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; }\n";
@@ -12,7 +12,7 @@ pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; 
 /// The component of LANGUAGE.md text `src` (as `test.gen`, no includes),
 /// when it parses and resolves.
 pub fn check(src: &str) -> Option<Component> {
-    let lowered = genom_parser::lower(Path::new("test.gen"), src.to_owned(), &MemoryLoader::new());
+    let lowered = gen_frontend::lower(Path::new("test.gen"), src.to_owned(), &MemoryLoader::new());
     lowered.model.filter(|_| lowered.has_component)
 }
 

@@ -14,7 +14,7 @@ pub fn run(args: &ExplainArgs) -> u8 {
         }
         Err(e) => {
             let known: Vec<&str> = Code::ALL.iter().map(|c| c.as_str()).collect();
-            let hint = genom_parser::diagnostics::closest(&args.code, known.iter().copied())
+            let hint = gen_frontend::diagnostics::closest(&args.code, known.iter().copied())
                 .map(|c| format!(" (did you mean `{c}`?)"))
                 .unwrap_or_default();
             eprintln!("error: {e}{hint}; the known codes are:");

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use genom_check::CheckOptions;
 use genom_export::{ExportInput, Exported, Format, Verification};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 use predicates::prelude::*;
 use serde_json::Value;
 

@@ -10,7 +10,7 @@ use genom_check::{CheckOptions, CheckResult};
 use genom_model::Diagnostic;
 use genom_model::component::Component;
 use genom_model::{Code, Severity};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 use genom_render::{FileReport, human};
 
 /// The workspace root (integration tests run from it).

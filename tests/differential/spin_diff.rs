@@ -21,7 +21,7 @@ use genom_export::{ExportInput, Format, Verification, export};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, Idx};
 use genom_model::{Code, Diagnostic, Severity};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 
 /// Components generated untimed and checked by the whole pipeline.
 const UNTIMED: u64 = 200;

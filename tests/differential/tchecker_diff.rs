@@ -225,7 +225,7 @@ fn compare(seed: u64, tck: &Path, algo: &str, dir: &Path, tally: &mut Tally) -> 
     let result = genom_check::check_source(
         Path::new("generated.gen"),
         text.clone(),
-        &genom_parser::MemoryLoader::new(),
+        &gen_frontend::MemoryLoader::new(),
         &CheckOptions::new()
             .max_states(2_000_000)
             .timeout(Some(CHECK_TIMEOUT)),

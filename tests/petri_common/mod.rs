@@ -17,7 +17,7 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};
 use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceKind};
 use genom_oracles::petri::{StableGraph, is_stable, stable_graph};
-use genom_parser::{FsLoader, MemoryLoader};
+use gen_frontend::{FsLoader, MemoryLoader};
 use genom_translate::petri::BuildPetriNet;
 
 /// A configuration as both sides can express it: `init_done`, then per

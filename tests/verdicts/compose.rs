@@ -21,7 +21,7 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::stats::Method as Decider;
 use genom_model::trace::Trace;
 use genom_oracles::replay::{Claim, replay_claim};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 
 /// What an analysis establishes, by name.
 #[derive(Debug, PartialEq, Eq)]

@@ -13,7 +13,7 @@ use std::time::Duration;
 use assert_cmd::Command;
 use genom_check::CheckOptions;
 use genom_model::Severity;
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 use genom_render::{FileReport, human, json};
 
 /// The regression inputs, sorted.

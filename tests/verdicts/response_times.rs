@@ -18,7 +18,7 @@ use genom_check::{CheckOptions, CheckResult};
 use genom_model::{Bound, Code, Diagnostic, Trace};
 use genom_oracles::replay::replay;
 use genom_oracles::timed_trace::{TimedClaim, check_timed};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 use serde_json::Value;
 
 const MS: u64 = 1_000_000;

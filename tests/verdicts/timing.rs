@@ -752,7 +752,7 @@ fn check_inline(src: &str) -> CheckResult {
     genom_check::check_source(
         Path::new("inline.gen"),
         src.to_owned(),
-        &genom_parser::MemoryLoader::new(),
+        &gen_frontend::MemoryLoader::new(),
         &CheckOptions::new(),
     )
 }

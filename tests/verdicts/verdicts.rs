@@ -20,7 +20,7 @@ use genom_checker::Engine;
 use genom_model::component::{Component, Outcome};
 use genom_model::{Code, Diagnostic, Event, Trace, TraceStep};
 use genom_oracles::replay::{Claim, ReplayError, replay, replay_claim};
-use genom_parser::FsLoader;
+use gen_frontend::FsLoader;
 use serde_json::Value;
 
 /// The behavioural codes this file is about.
@@ -1144,7 +1144,7 @@ fn check_inline(src: &str) -> CheckResult {
     genom_check::check_source(
         Path::new("inline.gen"),
         src.to_owned(),
-        &genom_parser::MemoryLoader::new(),
+        &gen_frontend::MemoryLoader::new(),
         &CheckOptions::new(),
     )
 }

@@ -29,7 +29,7 @@ use genom_engine::kernel::explore::{Limits, explore};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 
 /// Seed, services, codels per service, threads, rule density.
 const CASES: [(u64, usize, usize, usize, f64); 1] = [(6, 8, 4, 2, 1.0)];
@@ -45,7 +45,7 @@ fn component(case: (u64, usize, usize, usize, f64)) -> Component {
         ..GeneratorConfig::new(seed, services)
     });
     // The front-end alone: the engines read only the model.
-    let front = genom_parser::lower(Path::new("bench.gen"), text, &MemoryLoader::new());
+    let front = gen_frontend::lower(Path::new("bench.gen"), text, &MemoryLoader::new());
     front
         .model
         .filter(|_| front.has_component)

@@ -31,7 +31,7 @@ use genom_engine::zones::dbm::Dbm;
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 
 /// Cap on the symbolic states of one exploration (all clusters).
 const MAX_STATES: usize = 300_000;
@@ -112,7 +112,7 @@ fn config(services: usize, codels: usize, threads: usize) -> GeneratorConfig {
 /// The resolved component of a generated text (the front-end alone: the
 /// engines read only the model).
 fn component(text: &str) -> Component {
-    let front = genom_parser::lower(
+    let front = gen_frontend::lower(
         Path::new("bench.gen"),
         text.to_owned(),
         &MemoryLoader::new(),

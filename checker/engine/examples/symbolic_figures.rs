@@ -44,10 +44,10 @@ fn main() {
         .and_then(|k| args.get(k + 1)?.parse().ok())
         .unwrap_or(600);
     let text = generate(&cfg);
-    let lowered = genom_parser::lower(
+    let lowered = gen_frontend::lower(
         Path::new("gen.gen"),
         text,
-        &genom_parser::MemoryLoader::new(),
+        &gen_frontend::MemoryLoader::new(),
     );
     let c = lowered.model.expect("a component");
     let b = Behaviour::new(&c);

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use genom_model::component::Component;
-use genom_parser::MemoryLoader;
+use gen_frontend::MemoryLoader;
 
 /// What the front-end made of a snippet.
 pub struct Lowered {
@@ -14,7 +14,7 @@ pub struct Lowered {
 
 /// Lowers `src` as `test.gen` with no includes available.
 pub fn check(src: &str) -> Lowered {
-    let lowered = genom_parser::lower(Path::new("test.gen"), src.to_owned(), &MemoryLoader::new());
+    let lowered = gen_frontend::lower(Path::new("test.gen"), src.to_owned(), &MemoryLoader::new());
     Lowered {
         component: lowered.model.filter(|_| lowered.has_component),
     }

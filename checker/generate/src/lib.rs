@@ -196,7 +196,7 @@ mod tests {
     use genom_checker::{CheckOptions, Checked};
     use genom_model::Severity;
     use genom_model::frontend::{Frontend as _, Input};
-    use genom_parser::{GenFrontend, MemoryLoader};
+    use gen_frontend::{GenFrontend, MemoryLoader};
     use proptest::prelude::*;
 
     use super::*;

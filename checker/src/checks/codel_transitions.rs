@@ -1,5 +1,5 @@
 //! Tests of the `codel_transitions` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::codel_transitions`), through the whole check.
+//! resolving (`gen_frontend::checks::codel_transitions`), through the whole check.
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,5 @@
 //! Tests of the `duplicate_definition` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::duplicate_definition`), through the whole check.
+//! resolving (`gen_frontend::checks::duplicate_definition`), through the whole check.
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,5 @@
 //! Tests of the `invalid_attribute` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::invalid_attribute`), through the whole check.
+//! resolving (`gen_frontend::checks::invalid_attribute`), through the whole check.
 
 #[cfg(test)]
 mod tests {

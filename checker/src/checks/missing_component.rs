@@ -1,5 +1,5 @@
 //! Tests of the `missing_component` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::missing_component`), through the whole check.
+//! resolving (`gen_frontend::checks::missing_component`), through the whole check.
 
 #[cfg(test)]
 mod tests {

@@ -2,7 +2,7 @@
 //! constructors and its pass/fail tests. Static model checks ([`run`]) run
 //! on the resolved component; behavioural verdicts ([`behaviour`]) read the
 //! explorer's [`Analysis`]. Resolution checks belong to the front-end
-//! (`genom_parser::checks`); their files here hold only their tests, which
+//! (`gen_frontend::checks`); their files here hold only their tests, which
 //! run the whole check.
 //!
 //! The registry: a static check is its file (its `CHECK`: name, the

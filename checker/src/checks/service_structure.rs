@@ -1,5 +1,5 @@
 //! Tests of the `service_structure` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::service_structure`), through the whole check.
+//! resolving (`gen_frontend::checks::service_structure`), through the whole check.
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,5 @@
 //! Tests of the `type_mismatch` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::type_mismatch`), through the whole check.
+//! resolving (`gen_frontend::checks::type_mismatch`), through the whole check.
 
 #[cfg(test)]
 mod tests {

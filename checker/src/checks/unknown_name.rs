@@ -1,5 +1,5 @@
 //! Tests of the `unknown_name` diagnostics, which the front-end raises while
-//! resolving (`genom_parser::checks::unknown_name`), through the whole check.
+//! resolving (`gen_frontend::checks::unknown_name`), through the whole check.
 
 #[cfg(test)]
 mod tests {

@@ -14,7 +14,7 @@ use std::time::Instant;
 use genom_checker::{CheckOptions, Checked};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::frontend::{Frontend, Input};
-use genom_parser::{FsLoader, GenFrontend, Loader};
+use gen_frontend::{FsLoader, GenFrontend, Loader};
 use genom3_frontend::Genom3Frontend;
 
 /// What the whole check of a file found.

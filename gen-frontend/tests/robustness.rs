@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use genom_model::{Code, Span};
-use genom_parser::ast::Item;
-use genom_parser::{
+use gen_frontend::ast::Item;
+use gen_frontend::{
     MAX_NESTING, MAX_SYNTAX_ERRORS, MemoryLoader, ParserReturn, parse_source, parse_str,
 };
 use proptest::prelude::*;

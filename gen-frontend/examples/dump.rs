@@ -2,7 +2,7 @@
 #![allow(clippy::print_stdout)]
 fn main() {
     let path = std::env::args().nth(1).unwrap_or_default();
-    match genom_parser::parse_file(std::path::Path::new(&path), &genom_parser::FsLoader) {
+    match gen_frontend::parse_file(std::path::Path::new(&path), &gen_frontend::FsLoader) {
         Ok(r) => {
             println!("{:#?}", r.ast);
             for d in &r.diagnostics {

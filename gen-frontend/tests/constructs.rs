@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use genom_model::{FileId, Span};
-use genom_parser::ast::*;
-use genom_parser::{MemoryLoader, ParserReturn, parse_file, parse_str};
+use gen_frontend::ast::*;
+use gen_frontend::{MemoryLoader, ParserReturn, parse_file, parse_str};
 
 // ---------------------------------------------------------------- helpers
 

@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use genom_model::{Code, Diagnostic, FileId, Span};
-use genom_parser::ast::{AttrValue, Include, Item};
-use genom_parser::{MemoryLoader, ParserReturn, parse_file, parse_str};
+use gen_frontend::ast::{AttrValue, Include, Item};
+use gen_frontend::{MemoryLoader, ParserReturn, parse_file, parse_str};
 
 /// The 1-based line and column where `span` starts, in its own file.
 fn line_col(r: &ParserReturn, span: Span) -> (usize, usize) {
@@ -419,7 +419,7 @@ fn missing_include_points_at_the_path() {
 #[test]
 fn missing_main_file_is_a_load_error() {
     let err = parse_file(Path::new("nope.gen"), &MemoryLoader::new()).expect_err("no file");
-    assert_eq!(err, genom_parser::LoadError::NotFound);
+    assert_eq!(err, gen_frontend::LoadError::NotFound);
 }
 
 #[test]

@@ -2,13 +2,13 @@
 //! members, export/import data, threads, services with codels) and the
 //! canonical example `specs/pilot.gen`.
 //!
-//! `cargo bench -p genom-parser --bench parse -- --warm-up-time 1 --measurement-time 5`
+//! `cargo bench -p gen-frontend --bench parse -- --warm-up-time 1 --measurement-time 5`
 
 use std::fmt::Write as _;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use genom_parser::parse_str;
+use gen_frontend::parse_str;
 
 const PILOT: &str = include_str!("../../specs/pilot.gen");
 
