@@ -24,10 +24,10 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use gen_frontend::MemoryLoader;
 use genom_check::{CheckOptions, check_source};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::Component;
-use gen_frontend::MemoryLoader;
 
 /// Cap on the states of one check.
 const MAX_STATES: usize = 1_000_000;

@@ -6,9 +6,9 @@
 use std::path::Path;
 use std::time::Instant;
 
+use gen_frontend::{FsLoader, GenFrontend, LoadError, Loader};
 use genom_model::Dialect;
 use genom_model::frontend::{Frontend, Input, Loaded, Refused};
-use gen_frontend::{FsLoader, GenFrontend, LoadError, Loader};
 use genom3_frontend::Genom3Frontend;
 
 pub use genom_checker::CheckOptions;

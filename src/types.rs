@@ -4,9 +4,9 @@
 
 use std::path::PathBuf;
 
+use gen_frontend::LoadError;
 use genom_model::component::Component;
 use genom_model::{Diagnostic, Dialect, Pragma, ResponseTime, SourceMap, Statistics};
-use gen_frontend::LoadError;
 
 pub use genom_model::loader::{STDIN_NAME, display, is_stdin};
 

@@ -30,10 +30,10 @@ fn without_smt_budget_exits_2_and_says_why() {
 mod with_smt {
     use std::path::Path;
 
+    use gen_frontend::FsLoader;
     use genom_check::CheckOptions;
     use genom_model::Severity;
     use genom_model::component::Component;
-    use gen_frontend::FsLoader;
     use serde_json::Value;
 
     use super::Command;

@@ -5,10 +5,10 @@
 use std::path::Path;
 use std::time::Instant;
 
+use gen_frontend::{GenFrontend, Loader, MemoryLoader};
 use genom_model::Code;
 use genom_model::component::Component;
 use genom_model::frontend::{Frontend as _, Input};
-use gen_frontend::{GenFrontend, Loader, MemoryLoader};
 use genom_render::{FileReport, human};
 
 use crate::CheckOptions;

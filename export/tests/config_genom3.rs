@@ -88,28 +88,16 @@ fn genom3_config_of_the_fixtures() {
 
 #[test]
 fn committed_genom3_schema_is_up_to_date() {
-    let generated = config::genom3_schema();
-    if std::env::var_os("UPDATE_SCHEMA").is_some() {
-        std::fs::create_dir_all("schema").expect("create schema/");
-        std::fs::write(SCHEMA_PATH, &generated).expect("write the schema");
-        return;
-    }
-    let committed = std::fs::read_to_string(SCHEMA_PATH).unwrap_or_default();
-    assert!(
-        committed == generated,
-        "export/{SCHEMA_PATH} is out of date with the Rust types of export/src/config/genom3_document.rs; \
-         regenerate it with `UPDATE_SCHEMA=1 cargo test -p genom-export --test config_genom3` and commit it"
+    common::schema_is_up_to_date(
+        SCHEMA_PATH,
+        &config::genom3_schema(),
+        "config_genom3",
+        "config/genom3_document.rs",
     );
 }
 
 fn validator() -> jsonschema::Validator {
-    let text = std::fs::read_to_string(SCHEMA_PATH).expect("committed schema is readable");
-    let schema: Value = serde_json::from_str(&text).expect("schema is JSON");
-    jsonschema::meta::validate(&schema).expect("schema is a valid JSON Schema");
-    jsonschema::options()
-        .should_validate_formats(true)
-        .build(&schema)
-        .expect("schema compiles")
+    common::validator(SCHEMA_PATH)
 }
 
 fn assert_valid(validator: &jsonschema::Validator, doc: &Value, what: &str) {

@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
-use genom_model::{FileId, Span};
 use gen_frontend::ast::*;
 use gen_frontend::{MemoryLoader, ParserReturn, parse_file, parse_str};
+use genom_model::{FileId, Span};
 
 // ---------------------------------------------------------------- helpers
 

@@ -5,9 +5,9 @@
 
 use std::path::Path;
 
-use genom_model::{Code, Diagnostic, FileId, Span};
 use gen_frontend::ast::{AttrValue, Include, Item};
 use gen_frontend::{MemoryLoader, ParserReturn, parse_file, parse_str};
+use genom_model::{Code, Diagnostic, FileId, Span};
 
 /// The 1-based line and column where `span` starts, in its own file.
 fn line_col(r: &ParserReturn, span: Span) -> (usize, usize) {

@@ -5,11 +5,11 @@
 
 use std::path::Path;
 
-use genom_model::{Code, Span};
 use gen_frontend::ast::Item;
 use gen_frontend::{
     MAX_NESTING, MAX_SYNTAX_ERRORS, MemoryLoader, ParserReturn, parse_source, parse_str,
 };
+use genom_model::{Code, Span};
 use proptest::prelude::*;
 
 const PILOT: &str = include_str!("../../specs/pilot.gen");

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use genom_model::component::Component;
 use gen_frontend::MemoryLoader;
+use genom_model::component::Component;
 
 /// A valid LANGUAGE.md component header and thread for snippets.
 pub const HEADER: &str = "component t { lang: C; }\nthread main { period: 10ms; }\n";

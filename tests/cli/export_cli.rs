@@ -10,9 +10,9 @@
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use gen_frontend::FsLoader;
 use genom_check::CheckOptions;
 use genom_export::{ExportInput, Exported, Format, Verification};
-use gen_frontend::FsLoader;
 use predicates::prelude::*;
 use serde_json::Value;
 

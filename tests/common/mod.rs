@@ -6,11 +6,11 @@
 
 use std::path::{Path, PathBuf};
 
+use gen_frontend::FsLoader;
 use genom_check::{CheckOptions, CheckResult};
 use genom_model::Diagnostic;
 use genom_model::component::Component;
 use genom_model::{Code, Severity};
-use gen_frontend::FsLoader;
 use genom_render::{FileReport, human};
 
 /// The workspace root (integration tests run from it).

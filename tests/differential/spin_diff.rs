@@ -16,12 +16,12 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use gen_frontend::FsLoader;
 use genom_check::{CheckOptions, check_source};
 use genom_export::{ExportInput, Format, Verification, export};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::component::{Component, Idx};
 use genom_model::{Code, Diagnostic, Severity};
-use gen_frontend::FsLoader;
 
 /// Components generated untimed and checked by the whole pipeline.
 const UNTIMED: u64 = 200;

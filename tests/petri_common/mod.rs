@@ -9,6 +9,7 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use gen_frontend::{FsLoader, MemoryLoader};
 use genom_check::{CheckOptions, check_file, check_source};
 use genom_checker::dialect::system::{Config, System};
 use genom_checker::kernel::explore::{Limits, Model, explore};
@@ -17,7 +18,6 @@ use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, Idx, ServiceId};
 use genom_model::petri::{PRIORITY_STEP, PetriNet, PlaceKind};
 use genom_oracles::petri::{StableGraph, is_stable, stable_graph};
-use gen_frontend::{FsLoader, MemoryLoader};
 use genom_translate::petri::BuildPetriNet;
 
 /// A configuration as both sides can express it: `init_done`, then per

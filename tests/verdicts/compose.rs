@@ -14,6 +14,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use gen_frontend::FsLoader;
 use genom_check::{CheckOptions, check_source};
 use genom_checker::dialect::{Analysis, Decided, Limits, Method, analyse_using, analyse_with};
 use genom_generate::{GeneratorConfig, generate};
@@ -21,7 +22,6 @@ use genom_model::component::{Component, ServiceId};
 use genom_model::stats::Method as Decider;
 use genom_model::trace::Trace;
 use genom_oracles::replay::{Claim, replay_claim};
-use gen_frontend::FsLoader;
 
 /// What an analysis establishes, by name.
 #[derive(Debug, PartialEq, Eq)]

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use assert_cmd::Command;
+use gen_frontend::FsLoader;
 use genom_check::CheckOptions;
 use genom_model::Severity;
-use gen_frontend::FsLoader;
 use genom_render::{FileReport, human, json};
 
 /// The regression inputs, sorted.

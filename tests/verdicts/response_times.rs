@@ -14,11 +14,11 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use gen_frontend::FsLoader;
 use genom_check::{CheckOptions, CheckResult};
 use genom_model::{Bound, Code, Diagnostic, Trace};
 use genom_oracles::replay::replay;
 use genom_oracles::timed_trace::{TimedClaim, check_timed};
-use gen_frontend::FsLoader;
 use serde_json::Value;
 
 const MS: u64 = 1_000_000;

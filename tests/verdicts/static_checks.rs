@@ -9,11 +9,11 @@ use crate::common;
 
 use std::path::{Path, PathBuf};
 
+use gen_frontend::GenFrontend;
 use genom_check::CheckResult;
 use genom_checker::checks::STATIC_CHECKS;
 use genom_model::frontend::Frontend as _;
 use genom_model::{Code, Severity, Span};
-use gen_frontend::GenFrontend;
 
 /// Every static code of LANGUAGE.md section 4: the resolution, structure
 /// and type rules of the LANGUAGE.md front-end (the codes it explains, but

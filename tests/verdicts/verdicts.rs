@@ -15,12 +15,12 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
+use gen_frontend::FsLoader;
 use genom_check::{CheckOptions, CheckResult};
 use genom_checker::Engine;
 use genom_model::component::{Component, Outcome};
 use genom_model::{Code, Diagnostic, Event, Trace, TraceStep};
 use genom_oracles::replay::{Claim, ReplayError, replay, replay_claim};
-use gen_frontend::FsLoader;
 use serde_json::Value;
 
 /// The behavioural codes this file is about.

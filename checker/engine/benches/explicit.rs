@@ -22,6 +22,7 @@ mod common;
 use common::print;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use gen_frontend::MemoryLoader;
 use genom_engine::dialect::analyse_with;
 use genom_engine::dialect::analysis::clusters;
 use genom_engine::dialect::system::System;
@@ -29,7 +30,6 @@ use genom_engine::kernel::explore::{Limits, explore};
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
-use gen_frontend::MemoryLoader;
 
 /// Seed, services, codels per service, threads, rule density.
 const CASES: [(u64, usize, usize, usize, f64); 1] = [(6, 8, 4, 2, 1.0)];

@@ -24,6 +24,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use gen_frontend::MemoryLoader;
 use genom_engine::kernel::explore::{Limits, Model, explore};
 use genom_engine::kernel::store::Subsumes;
 use genom_engine::timed::model::{TAction, TState, TimedSystem};
@@ -31,7 +32,6 @@ use genom_engine::zones::dbm::Dbm;
 use genom_generate::{GeneratorConfig, generate};
 use genom_model::behaviour::Behaviour;
 use genom_model::component::Component;
-use gen_frontend::MemoryLoader;
 
 /// Cap on the symbolic states of one exploration (all clusters).
 const MAX_STATES: usize = 300_000;

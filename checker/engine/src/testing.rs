@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use genom_model::component::Component;
 use gen_frontend::MemoryLoader;
+use genom_model::component::Component;
 
 /// What the front-end made of a snippet.
 pub struct Lowered {

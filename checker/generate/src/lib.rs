@@ -193,10 +193,10 @@ mod tests {
     use std::path::Path;
     use std::time::{Duration, Instant};
 
+    use gen_frontend::{GenFrontend, MemoryLoader};
     use genom_checker::{CheckOptions, Checked};
     use genom_model::Severity;
     use genom_model::frontend::{Frontend as _, Input};
-    use gen_frontend::{GenFrontend, MemoryLoader};
     use proptest::prelude::*;
 
     use super::*;

@@ -29,6 +29,19 @@ pub(super) fn lines(first: &str, rest: &[String]) -> String {
     all.join("\n")
 }
 
+/// The `digraph` line, the graph, node and edge defaults of both
+/// languages' pictures, and the title.
+pub(crate) fn digraph_opening(out: &mut String, name: &str, title: &str) {
+    let _ = writeln!(out, "digraph {} {{", q(name));
+    out.push_str(
+        "  graph [fontname=\"Helvetica\", fontsize=12, rankdir=TB, compound=true, newrank=true, \
+         nodesep=0.35, ranksep=0.45, labeljust=l];\n  \
+         node [fontname=\"Helvetica\", fontsize=11];\n  \
+         edge [fontname=\"Helvetica\", fontsize=9];\n",
+    );
+    let _ = writeln!(out, "  label={}; labelloc=t;", q(title));
+}
+
 pub(super) fn render(d: &Diagrams, version: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -41,17 +54,10 @@ pub(super) fn render(d: &Diagrams, version: &str) -> String {
          // stops/delays/forbids), then each service's codel machine, then the legend.\n\
          // Render: dot -Tsvg FILE.dot -o FILE.svg   (or -Tpdf, -Tpng)\n",
     );
-    let _ = writeln!(out, "digraph {} {{", q(&d.component));
-    out.push_str(
-        "  graph [fontname=\"Helvetica\", fontsize=12, rankdir=TB, compound=true, newrank=true, \
-         nodesep=0.35, ranksep=0.45, labeljust=l];\n  \
-         node [fontname=\"Helvetica\", fontsize=11];\n  \
-         edge [fontname=\"Helvetica\", fontsize=9];\n",
-    );
-    let _ = writeln!(
-        out,
-        "  label={}; labelloc=t;",
-        q(&format!("component {}", d.component))
+    digraph_opening(
+        &mut out,
+        &d.component,
+        &format!("component {}", d.component),
     );
     overview_dot(&mut out, d);
     for m in &d.machines {

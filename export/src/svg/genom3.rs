@@ -212,29 +212,8 @@ fn cluster_in(group: &TaskGroup) -> ClusterIn {
 
 fn cluster(c: &mut Canvas, group: &TaskGroup, r: Rect) {
     let fill = lighter(group.color);
-    c.rect(
-        Some(&group.id),
-        "cluster task",
-        r,
-        8.0,
-        &fill,
-        CLUSTER_LINE,
-        "",
-    );
-    let x = r.x + layout::CLUSTER_PAD;
-    let y = r.y + layout::CLUSTER_PAD;
-    let title = TextStyle {
-        bold: true,
-        ..TextStyle::start("cluster-title")
-    };
-    c.text(x, y, std::slice::from_ref(&group.title), title);
-    let detail = TextStyle::start("cluster-detail");
-    c.text(
-        x,
-        y + line_height(FONT),
-        std::slice::from_ref(&group.detail),
-        detail,
-    );
+    let texts = (group.title.as_str(), group.detail.as_str());
+    super::draw_cluster(c, (&group.id, "cluster task"), r, &fill, texts);
 }
 
 /// The dash pattern of an edge kind.

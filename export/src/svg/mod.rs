@@ -135,6 +135,27 @@ fn label_size(s: &str) -> Option<(f64, f64)> {
     (!s.is_empty()).then(|| (text_width(s, SMALL), line_height(SMALL)))
 }
 
+/// A thread's (or task's) cluster: its rectangle (`id`, `class`), then
+/// its title and detail lines in its top left corner.
+pub(crate) fn draw_cluster(
+    c: &mut Canvas,
+    (id, class): (&str, &str),
+    r: Rect,
+    fill: &str,
+    (title, detail): (&str, &str),
+) {
+    c.rect(Some(id), class, r, 8.0, fill, CLUSTER_LINE, "");
+    let x = r.x + layout::CLUSTER_PAD;
+    let y = r.y + layout::CLUSTER_PAD;
+    let style = TextStyle {
+        bold: true,
+        ..TextStyle::start("cluster-title")
+    };
+    c.text(x, y, &[title.to_owned()], style);
+    let style = TextStyle::start("cluster-detail");
+    c.text(x, y + line_height(FONT), &[detail.to_owned()], style);
+}
+
 /// The dash pattern of an edge style.
 fn dash(dashed: bool, dotted: bool) -> &'static str {
     if dotted {
@@ -189,29 +210,9 @@ fn overview(d: &Diagrams) -> Part {
         let Some(&r) = placed.clusters.get(g) else {
             continue;
         };
-        c.rect(
-            Some(&group.id),
-            "cluster thread",
-            r,
-            8.0,
-            &lighter(group.color),
-            CLUSTER_LINE,
-            "",
-        );
-        let x = r.x + layout::CLUSTER_PAD;
-        let y = r.y + layout::CLUSTER_PAD;
-        let title = TextStyle {
-            bold: true,
-            ..TextStyle::start("cluster-title")
-        };
-        c.text(x, y, std::slice::from_ref(&group.title), title);
-        let detail = TextStyle::start("cluster-detail");
-        c.text(
-            x,
-            y + line_height(FONT),
-            std::slice::from_ref(&group.detail),
-            detail,
-        );
+        let fill = lighter(group.color);
+        let texts = (group.title.as_str(), group.detail.as_str());
+        draw_cluster(&mut c, (&group.id, "cluster thread"), r, &fill, texts);
     }
     for (k, s) in o.services.iter().enumerate() {
         let color = o.groups.get(s.group).map_or("#ffffff", |g| g.color);

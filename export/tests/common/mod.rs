@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+use gen_frontend::{FsLoader, GenFrontend, Loader};
 use genom_checker::{CheckOptions, Checked};
 use genom_export::{ExportInput, Format, Verification};
 use genom_model::frontend::{Frontend, Input};
-use gen_frontend::{FsLoader, GenFrontend, Loader};
 use genom3_frontend::Genom3Frontend;
 
 /// What the whole check of a file found.
@@ -173,4 +173,33 @@ pub fn graphviz_accepts(text: &str, path: &Path) {
         ..roxmltree::ParsingOptions::default()
     };
     roxmltree::Document::parse_with_options(&svg, options).expect("Graphviz's SVG is XML");
+}
+
+/// Checks that the JSON Schema committed at `path` is `generated` (or
+/// writes it there with `UPDATE_SCHEMA=1`); `test` and `types` name the
+/// test binary and the file of the Rust types, for the message.
+pub fn schema_is_up_to_date(path: &str, generated: &str, test: &str, types: &str) {
+    if std::env::var_os("UPDATE_SCHEMA").is_some() {
+        std::fs::create_dir_all("schema").expect("create schema/");
+        std::fs::write(path, generated).expect("write the schema");
+        return;
+    }
+    let committed = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        committed == generated,
+        "export/{path} is out of date with the Rust types of export/src/{types}; \
+         regenerate it with `UPDATE_SCHEMA=1 cargo test -p genom-export --test {test}` and commit it"
+    );
+}
+
+/// A validator of the JSON Schema committed at `path`, itself checked
+/// against the meta-schema.
+pub fn validator(path: &str) -> jsonschema::Validator {
+    let text = std::fs::read_to_string(path).expect("committed schema is readable");
+    let schema: serde_json::Value = serde_json::from_str(&text).expect("schema is JSON");
+    jsonschema::meta::validate(&schema).expect("schema is a valid JSON Schema");
+    jsonschema::options()
+        .should_validate_formats(true)
+        .build(&schema)
+        .expect("schema compiles")
 }

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 
 use super::{BoxKind, G3Diagrams, G3EdgeKind, G3Machine, G3Node, G3NodeKind, TABLE_HEADER};
-use crate::dot::text::{lighter, lines, q};
+use crate::dot::text::{digraph_opening, lighter, lines, q};
 
 /// The whole digraph.
 pub(crate) fn render(d: &G3Diagrams, version: &str) -> String {
@@ -20,17 +20,10 @@ pub(crate) fn render(d: &G3Diagrams, version: &str) -> String {
          // the control task's functions and attributes), then each task's machines, then\n\
          // the legend. Render: dot -Tsvg FILE.dot -o FILE.svg   (or -Tpdf, -Tpng)\n",
     );
-    let _ = writeln!(out, "digraph {} {{", q(&d.component));
-    out.push_str(
-        "  graph [fontname=\"Helvetica\", fontsize=12, rankdir=TB, compound=true, newrank=true, \
-         nodesep=0.35, ranksep=0.45, labeljust=l];\n  \
-         node [fontname=\"Helvetica\", fontsize=11];\n  \
-         edge [fontname=\"Helvetica\", fontsize=9];\n",
-    );
-    let _ = writeln!(
-        out,
-        "  label={}; labelloc=t;",
-        q(&format!("GenoM3 component {}", d.component))
+    digraph_opening(
+        &mut out,
+        &d.component,
+        &format!("GenoM3 component {}", d.component),
     );
     overview(&mut out, d);
     for (k, g) in d.overview.groups.iter().enumerate() {
