@@ -9,15 +9,16 @@
 //! positions. Its children add the places (`places`), the request chains
 //! (`requests`) and the other transitions (`transitions`).
 
+mod arcs;
 mod places;
 mod requests;
 mod transitions;
 
+pub(crate) use arcs::Arcs;
+
 use genom_model::behaviour::{Behaviour, IDLE, PosId, Position, ServiceMachine};
 use genom_model::component::{CodelId, Component, Idx, Ref, Service, ServiceId};
-use genom_model::petri::{
-    PetriNet, Place, PlaceId, PlaceKind, ServicePlaces, Transition, TransitionKind,
-};
+use genom_model::petri::{PetriNet, Place, PlaceId, PlaceKind, ServicePlaces, Transition};
 use genom_model::span::Span;
 
 /// The construction of a [`PetriNet`], as an associated function of the
@@ -43,56 +44,6 @@ impl BuildPetriNet for PetriNet {
             builder.service_transitions(s);
         }
         builder.net
-    }
-}
-
-/// A transition made step by step: its identity, then its arcs of weight
-/// one (an inhibitor arc once per place).
-trait Arcs: Sized {
-    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self;
-    fn pre(self, p: PlaceId) -> Self;
-    fn post(self, p: PlaceId) -> Self;
-    fn read(self, p: PlaceId) -> Self;
-    fn inhibit(self, places: impl IntoIterator<Item = PlaceId>) -> Self;
-}
-
-impl Arcs for Transition {
-    fn new(name: String, label: String, span: Span, priority: u8, kind: TransitionKind) -> Self {
-        Transition {
-            name,
-            label,
-            span,
-            priority,
-            kind,
-            pre: Vec::new(),
-            post: Vec::new(),
-            read: Vec::new(),
-            inhibit: Vec::new(),
-        }
-    }
-
-    fn pre(mut self, p: PlaceId) -> Self {
-        self.pre.push((p, 1));
-        self
-    }
-
-    fn post(mut self, p: PlaceId) -> Self {
-        self.post.push((p, 1));
-        self
-    }
-
-    fn read(mut self, p: PlaceId) -> Self {
-        self.read.push((p, 1));
-        self
-    }
-
-    fn inhibit(mut self, places: impl IntoIterator<Item = PlaceId>) -> Self {
-        for p in places {
-            if !self.inhibit.iter().any(|&(q, _)| q == p) {
-                self.inhibit.push((p, 1));
-            }
-        }
-        self
     }
 }
 

@@ -42,6 +42,7 @@ use genom_model::petri::{
 use genom_model::span::Span;
 
 use crate::genom3_reading::Reading;
+use crate::petri::Arcs;
 
 pub use genom_model::petri::{G3_PRIORITY_MICRO, G3_PRIORITY_REEXAMINE, G3_PRIORITY_STEP};
 
@@ -457,68 +458,15 @@ impl<'c> Builder<'c> {
     }
 }
 
-/// A transition under construction: its identity, then its arcs (weight
-/// one).
-trait Arcs: Sized {
-    fn pre(self, p: PlaceId) -> Self;
-    fn post(self, p: PlaceId) -> Self;
-    fn read(self, p: PlaceId) -> Self;
-    fn inhibit(self, p: PlaceId) -> Self;
-    fn at(self, span: Span) -> Self;
-    fn pres(self, ps: impl IntoIterator<Item = PlaceId>) -> Self {
-        ps.into_iter().fold(self, Arcs::pre)
-    }
-    fn posts(self, ps: impl IntoIterator<Item = PlaceId>) -> Self {
-        ps.into_iter().fold(self, Arcs::post)
-    }
-    fn reads(self, ps: impl IntoIterator<Item = PlaceId>) -> Self {
-        ps.into_iter().fold(self, Arcs::read)
-    }
-    fn inhibits(self, ps: impl IntoIterator<Item = PlaceId>) -> Self {
-        ps.into_iter().fold(self, Arcs::inhibit)
-    }
-}
-
-impl Arcs for Transition {
-    fn pre(mut self, p: PlaceId) -> Self {
-        self.pre.push((p, 1));
-        self
-    }
-    fn post(mut self, p: PlaceId) -> Self {
-        self.post.push((p, 1));
-        self
-    }
-    fn read(mut self, p: PlaceId) -> Self {
-        if !self.read.iter().any(|&(q, _)| q == p) {
-            self.read.push((p, 1));
-        }
-        self
-    }
-    fn inhibit(mut self, p: PlaceId) -> Self {
-        if !self.inhibit.iter().any(|&(q, _)| q == p) {
-            self.inhibit.push((p, 1));
-        }
-        self
-    }
-    fn at(mut self, span: Span) -> Self {
-        self.span = span;
-        self
-    }
-}
-
 /// A transition without arcs.
 fn transition(name: String, label: String, priority: u8, kind: G3Step) -> Transition {
-    Transition {
+    Transition::new(
         name,
         label,
-        span: Span::default(),
+        Span::default(),
         priority,
-        kind: TransitionKind::Genom3(kind),
-        pre: Vec::new(),
-        post: Vec::new(),
-        read: Vec::new(),
-        inhibit: Vec::new(),
-    }
+        TransitionKind::Genom3(kind),
+    )
 }
 
 /// A micro-step of an atomic sequence.

@@ -8,7 +8,8 @@
 use genom_model::component::{Idx, ServiceId};
 use genom_model::petri::PlaceId;
 
-use super::{Arcs, Builder, micro};
+use super::{Builder, micro};
+use crate::petri::Arcs;
 
 /// One operation of a sequence.
 #[derive(Debug, Clone, Copy)]
@@ -173,7 +174,7 @@ impl Builder<'_> {
         let p = self.acts[a].clone();
         let ready = micro(format!("{what}.ready"), format!("{what}: ready"))
             .pre(at)
-            .inhibits(stopping.iter().copied())
+            .inhibit(stopping.iter().copied())
             .posts(then.iter().copied())
             .post(p.ready);
         let ready = if promote { ready.pre(p.delayed) } else { ready };

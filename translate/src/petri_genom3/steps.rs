@@ -9,8 +9,9 @@ use genom_model::component::{Idx, ServiceId};
 use genom_model::petri::{G3_PRIORITY_REEXAMINE, G3Step, PlaceId, Transition};
 
 use super::sequences::{Finish, Op};
-use super::{Arcs, Builder, G3_PRIORITY_STEP, micro, transition};
+use super::{Builder, G3_PRIORITY_STEP, micro, transition};
 use crate::genom3_reading::{ControlKind, Next};
+use crate::petri::Arcs;
 
 /// One outcome of a codel: a yield to a state, `ether`, or an exception.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,19 +63,21 @@ impl Builder<'_> {
         }
     }
 
-    /// The reads of `after` all done and `before` none done (4.1, 4.2).
-    fn admissible(&self, sid: ServiceId, mut t: Transition) -> Transition {
-        for x in self.r.after.get(&sid).into_iter().flatten() {
-            if let Some((done, _)) = self.done.get(x.index()).copied().flatten() {
-                t = t.read(done);
-            }
-        }
-        for x in self.r.before.get(&sid).into_iter().flatten() {
-            if let Some((_, undone)) = self.done.get(x.index()).copied().flatten() {
-                t = t.read(undone);
-            }
-        }
-        t
+    /// The reads of `after` all done and `before` none done (4.1, 4.2),
+    /// each place once.
+    fn admissible(&self, sid: ServiceId, t: Transition) -> Transition {
+        let places = |list: Option<&Vec<ServiceId>>, done: bool| -> Vec<PlaceId> {
+            list.into_iter()
+                .flatten()
+                .filter_map(|x| self.done.get(x.index()).copied().flatten())
+                .map(|(d, u)| if done { d } else { u })
+                .collect()
+        };
+        let mut reads: Vec<PlaceId> = places(self.r.after.get(&sid), true);
+        reads.extend(places(self.r.before.get(&sid), false));
+        reads.sort_unstable();
+        reads.dedup();
+        t.reads(reads)
     }
 
     /// Task `t`'s permanent codels: while the component lives, and in the
