@@ -54,6 +54,7 @@ impl Cli {
             Some(
                 Command::Explain(_)
                 | Command::Generate(_)
+                | Command::WcetTemplate(_)
                 | Command::Completions(_)
                 | Command::Manpage,
             ) => None,
@@ -78,6 +79,9 @@ pub enum Command {
     /// factor of all WCETs, that keep the component free of errors (needs the `smt`
     /// feature).
     Budget(BudgetArgs),
+    /// Write a WCET file to start from for a GenoM3 component: one line per
+    /// codel that can take time, its value `?` (not measured yet) to replace.
+    WcetTemplate(WcetTemplateArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(CompletionsArgs),
     /// Print the manual page (roff), e.g. `genom-check manpage > genom-check.1`.
@@ -99,6 +103,24 @@ pub struct LspArgs {
     /// `incomplete`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "4G")]
     pub max_memory: usize,
+}
+
+/// Arguments of `wcet-template`.
+#[derive(Debug, Clone, Args)]
+pub struct WcetTemplateArgs {
+    /// The GenoM3 component description file (`.gen`).
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// How the file is read (a `--wcet` file given here is checked, not
+    /// used).
+    #[command(flatten)]
+    pub input: InputArgs,
+
+    /// Write the template to this file (never over an input of the run)
+    /// instead of standard output.
+    #[arg(short = 'o', long = "output", value_name = "PATH")]
+    pub output: Option<PathBuf>,
 }
 
 /// Arguments of `completions`.

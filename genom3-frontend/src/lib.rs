@@ -58,6 +58,7 @@ pub mod lower;
 pub mod preprocess;
 mod syntax;
 pub mod wcet;
+pub mod wcet_template;
 
 use std::path::{Path, PathBuf};
 
@@ -69,6 +70,7 @@ pub use detect::looks_like_genom3;
 pub use frontend::Genom3Frontend;
 pub use load::{FsLoader, LoadError, Loader, MemoryLoader};
 pub use preprocess::Pragma;
+pub use wcet_template::wcet_template;
 
 /// Options of a GenoM3 load. The default searches no `-I` folder, does
 /// search `GENOM_INCLUDE_PATH`, and reads no WCET file.

@@ -3,9 +3,12 @@
 //! one of its codel states, or `validate` / `codel` for the control-task
 //! codels of a function or attribute) or a task (STATE a state of its
 //! permanent codels). Durations are exact: `400us`, `1ms`, `2.5ms`, `10ns`,
-//! `1s`, at most one day ([`MAX_DURATION_NS`]). Unknown owners or states,
-//! a duration too long, and a codel given twice are `bad-wcet` errors
-//! pointing into the WCET file. A byte-order mark at its start is skipped.
+//! `1s`, at most one day ([`MAX_DURATION_NS`]); `?` is a placeholder (a
+//! codel not measured yet, as a template from `genom-check wcet-template`
+//! writes it): its owner and state are checked, and the codel stays
+//! without WCET. Unknown owners or states, a duration too long, and a codel
+//! given twice are `bad-wcet` errors pointing into the WCET file. A
+//! byte-order mark at its start is skipped.
 
 use std::collections::BTreeMap;
 
@@ -27,8 +30,8 @@ pub struct WcetEntry {
     pub state: String,
     /// Where the state is written.
     pub state_span: Span,
-    /// The WCET in nanoseconds.
-    pub ns: u64,
+    /// The WCET in nanoseconds; `None` for the placeholder `?`.
+    pub ns: Option<u64>,
     /// Where the duration is written.
     pub span: Span,
 }
@@ -109,15 +112,18 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
                     ));
                     continue;
                 };
-                let Some(ns) = duration_ns(dur) else {
+                let ns = if *dur == "?" { None } else { duration_ns(dur) };
+                if ns.is_none() && *dur != "?" {
                     out.diagnostics.push(diagnostics::bad_wcet(
                         at(*o2, dur.len()),
-                        format!("expected a duration such as `400us`, found `{dur}`"),
+                        format!(
+                            "expected a duration such as `400us` (or `?`, not measured yet), found `{dur}`"
+                        ),
                         None,
                     ));
                     continue;
-                };
-                if ns > MAX_DURATION_NS {
+                }
+                if ns.is_some_and(|ns| ns > MAX_DURATION_NS) {
                     let d = diagnostics::bad_wcet(at(*o2, dur.len()), duration_too_long(dur), None);
                     out.diagnostics.push(d);
                     continue;
@@ -159,18 +165,17 @@ pub fn parse_wcet(sources: &SourceMap, file: FileId) -> WcetReturn {
     out
 }
 
-/// Sets the WCET of every codel named by `entries`; returns the `bad-wcet`
-/// errors for unknown owners and states.
+/// Sets the WCET of every codel named by `entries` (a placeholder `?`
+/// sets none); returns the `bad-wcet` errors for unknown owners and
+/// states.
 pub fn apply_wcets(c: &mut Component, entries: &[WcetEntry]) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     for e in entries {
-        let wcet = Duration {
-            ns: e.ns,
-            span: e.span,
-        };
+        let wcet = e.ns.map(|ns| Duration { ns, span: e.span });
         if let Some(sid) = c.service_named(&e.owner) {
             match c.codel_named(sid, &e.state) {
                 Some(codel) => {
+                    let Some(wcet) = wcet else { continue };
                     c.codels[codel].wcet = Some(wcet);
                     if let Some(info) = c
                         .genom3
@@ -206,7 +211,9 @@ pub fn apply_wcets(c: &mut Component, entries: &[WcetEntry]) -> Vec<Diagnostic> 
             if let Some(task) = task {
                 for codel in &mut task.codels {
                     if codel.states.iter().any(|s| s.name == e.state) {
-                        codel.wcet = Some(wcet);
+                        if wcet.is_some() {
+                            codel.wcet = wcet;
+                        }
                         found = true;
                     }
                     states.extend(codel.states.iter().map(|s| s.name.clone()));

@@ -6,6 +6,7 @@ mod documents;
 mod explain;
 mod export;
 mod generate;
+mod wcet_template;
 
 use crate::cli::{Cli, Command};
 pub use crate::exit::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -30,6 +31,7 @@ fn command(cli: Cli) -> u8 {
         Some(Command::Export(args)) => export::run(&args, &cli.output),
         Some(Command::Generate(args)) => generate::run(&args),
         Some(Command::Budget(args)) => budget::run(&args, &cli.output),
+        Some(Command::WcetTemplate(args)) => wcet_template::run(&args, &cli.output),
         Some(Command::Completions(args)) => documents::completions(&args),
         Some(Command::Manpage) => documents::manpage(),
         Some(Command::Lsp(args)) => crate::lsp::run(&args),
