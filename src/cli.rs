@@ -574,6 +574,11 @@ pub struct OutputArgs {
     #[arg(short, long, global = true)]
     pub quiet: bool,
 
+    /// Show each advice in full, with its source snippet and help (by
+    /// default the human report gives each advice one line).
+    #[arg(short, long, global = true, conflicts_with = "quiet")]
+    pub verbose: bool,
+
     /// When to use colours (`auto` honours NO_COLOR and non-terminals).
     #[arg(long, value_enum, default_value_t = Color::Auto, global = true)]
     pub color: Color,

@@ -45,6 +45,32 @@ pub fn render_diagnostics(report: &FileReport<'_>, options: HumanOptions) -> Str
     out
 }
 
+/// Renders an advice in one line, as the default human report shows it
+/// (`--verbose` shows it in full): `☞ CODE: message (file:line:column)`.
+pub fn render_advice_line(sources: &SourceMap, d: &Diagnostic, options: HumanOptions) -> String {
+    let at = crate::json::location(sources, d.span());
+    let place = if at.file.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " ({}:{}:{})",
+            escaped(&at.file),
+            at.line,
+            at.column
+        )
+    };
+    let (on, off) = if options.color {
+        ("\u{1b}[36m", "\u{1b}[0m")
+    } else {
+        ("", "")
+    };
+    format!(
+        "{on}☞ {}{off}: {}{place}\n",
+        d.code,
+        escaped(&d.message)
+    )
+}
+
 /// Renders one diagnostic as a graphical report followed by its trace.
 pub fn render_diagnostic(sources: &SourceMap, d: &Diagnostic, options: HumanOptions) -> String {
     let theme = if options.color {

@@ -70,33 +70,51 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
 }
 
 fn print_human(reports: &[FileReport<'_>], output: &OutputArgs) {
+    let color = terminal::use_color(output.color);
+    terminal::emit(&human_report(reports, output, color));
+}
+
+/// The human report of `reports`: errors and warnings in full, each advice
+/// in one line (in full with `--verbose`, none with `--quiet`), then, unless
+/// quiet, the response times, the summary and assumptions of each file,
+/// the `explain` hint, a word on shortened advice and the total.
+pub(super) fn human_report(reports: &[FileReport<'_>], output: &OutputArgs, color: bool) -> String {
     let options = human::HumanOptions {
-        color: terminal::use_color(output.color),
+        color,
         width: terminal::width(),
     };
+    let mut out = String::new();
+    let mut shortened = 0;
     for report in reports {
         for d in report.diagnostics {
-            if output.quiet && d.severity == Severity::Advice {
-                continue;
+            if d.severity != Severity::Advice || output.verbose {
+                out.push_str(&human::render_diagnostic(report.sources, d, options));
+            } else if !output.quiet {
+                out.push_str(&human::render_advice_line(report.sources, d, options));
+                shortened += 1;
             }
-            terminal::emit(&human::render_diagnostic(report.sources, d, options));
         }
         if !output.quiet {
-            terminal::emit(&genom_model::response::render_table(report.response_times));
-            terminal::emit(&(summary_line(report) + "\n"));
+            out.push_str(&genom_model::response::render_table(report.response_times));
+            out.push_str(&(summary_line(report) + "\n"));
             if let Some(a) = assumptions(report) {
-                terminal::emit(&format!("  {a}\n"));
+                out.push_str(&format!("  {a}\n"));
             }
         }
     }
-    if !output.quiet {
-        if let Some(hint) = explain_hint(reports) {
-            terminal::emit(&(hint + "\n"));
-        }
+    if output.quiet {
+        return out;
     }
-    if !output.quiet && reports.len() > 1 {
-        terminal::emit(&(human::render_total(total(reports), reports.len()) + "\n"));
+    if let Some(hint) = explain_hint(reports) {
+        out.push_str(&(hint + "\n"));
     }
+    if shortened > 0 {
+        out.push_str("Advice is shown in one line each: `--verbose` shows it in full.\n");
+    }
+    if reports.len() > 1 {
+        out.push_str(&(human::render_total(total(reports), reports.len()) + "\n"));
+    }
+    out
 }
 
 /// The options and inputs for `path`: the command line's, else the

@@ -9,8 +9,7 @@ use std::path::PathBuf;
 
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
-use genom_model::Severity;
-use genom_render::{FileReport, escaped, github, human, json, sarif};
+use genom_render::{FileReport, escaped, github, json, sarif};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -206,25 +205,7 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
         }
         ReportFormat::Human => {}
     }
-    let options = human::HumanOptions {
-        color,
-        width: terminal::width(),
-    };
-    let mut out = String::new();
-    for d in report.diagnostics {
-        if !(output.quiet && d.severity == Severity::Advice) {
-            out.push_str(&human::render_diagnostic(report.sources, d, options));
-        }
-    }
-    if !output.quiet {
-        out.push_str(&super::check::summary_line(&report));
-        out.push('\n');
-        if let Some(hint) = super::check::explain_hint(std::slice::from_ref(&report)) {
-            out.push_str(&hint);
-            out.push('\n');
-        }
-    }
-    out
+    super::check::human_report(std::slice::from_ref(&report), output, color)
 }
 
 /// Writes the main output (stdout without `-o`) and companion files;

@@ -9,8 +9,8 @@
 //! written as [`crate::output`] says: never over an input of the run.
 
 use genom_check::CheckOptions;
-use genom_model::{Dialect, Severity};
-use genom_render::{FileReport, human};
+use genom_model::Dialect;
+use genom_render::FileReport;
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{OutputArgs, WcetTemplateArgs};
@@ -57,21 +57,10 @@ pub fn run(args: &WcetTemplateArgs, output: &OutputArgs) -> u8 {
 /// The check's report on stderr, as `check` prints it (stdout may carry
 /// the template).
 fn report(report: &FileReport<'_>, output: &OutputArgs) {
-    let options = human::HumanOptions {
-        color: false,
-        width: terminal::width(),
-    };
-    let mut out = String::new();
-    for d in report.diagnostics {
-        if d.severity != Severity::Advice {
-            out.push_str(&human::render_diagnostic(report.sources, d, options));
-        }
-    }
-    if !output.quiet {
-        out.push_str(&super::check::summary_line(report));
-        out.push('\n');
-    }
-    eprint!("{out}");
+    eprint!(
+        "{}",
+        super::check::human_report(std::slice::from_ref(report), output, false)
+    );
 }
 
 /// Writes the template to stdout or `-o`.

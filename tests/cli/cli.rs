@@ -260,3 +260,56 @@ fn closed_stdout_is_not_a_crash() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     assert_eq!(out.status.code(), Some(1));
 }
+
+/// The lines `genom-check ARGS` prints on stdout.
+fn stdout_lines(args: &[&str]) -> Vec<String> {
+    let out = genom_check().args(args).output().unwrap();
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn advice_takes_one_line_unless_verbose() {
+    let short = stdout_lines(&["--color", "never", "specs/pilot.gen"]);
+    let advice: Vec<&String> = short.iter().filter(|l| l.starts_with("☞ ")).collect();
+    assert_eq!(advice.len(), 1, "{short:#?}");
+    assert!(
+        advice[0].starts_with("☞ missing-wcet: 4 codels without WCET")
+            && advice[0].ends_with("(specs/pilot.gen:19:3)"),
+        "{short:#?}"
+    );
+    assert!(short.iter().any(|l| l.contains("`--verbose` shows it in full")));
+    let full = stdout_lines(&["--color", "never", "--verbose", "specs/pilot.gen"]);
+    let text = full.join("\n");
+    assert!(text.contains("`moveDistance::goto` has no WCET"), "{text}");
+    assert!(text.contains("left unproven: overruns of thread `motionTask`"));
+    assert!(!text.contains("`--verbose` shows it in full"));
+    let quiet = stdout_lines(&["--quiet", "specs/pilot.gen"]);
+    assert!(quiet.is_empty(), "{quiet:#?}");
+    genom_check()
+        .args(["--quiet", "--verbose", "specs/pilot.gen"])
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn a_clean_component_takes_a_few_lines() {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir("specs")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "gen"))
+        .collect();
+    files.push("tests/fixtures/genom3/timing/f10_restart_fixed.gen".into());
+    files.push("tests/fixtures/genom3/semantics/f3_permanent.gen".into());
+    for path in files {
+        let shown = path.to_string_lossy().into_owned();
+        let lines = stdout_lines(&["--color", "never", &shown]);
+        assert!(
+            lines.iter().all(|l| !l.contains('×') && !l.contains('⚠')),
+            "{shown} is clean: {lines:#?}"
+        );
+        assert!(lines.len() <= 15, "{shown}: {} lines\n{lines:#?}", lines.len());
+    }
+}

@@ -40,9 +40,11 @@ fn run(args: &[&str]) -> (i32, String, String) {
 /// duration) and the `explain` hint after it.
 fn without_summary(report: &str) -> &str {
     let mut trimmed = report.trim_end_matches('\n');
-    if let Some((body, last)) = trimmed.rsplit_once('\n') {
-        if last.starts_with("For more information") {
-            trimmed = body;
+    for trailer in ["Advice is shown", "For more information"] {
+        if let Some((body, last)) = trimmed.rsplit_once('\n') {
+            if last.starts_with(trailer) {
+                trimmed = body;
+            }
         }
     }
     trimmed.rsplit_once('\n').map_or("", |(body, _)| body)
