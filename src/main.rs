@@ -12,6 +12,7 @@ mod config;
 mod exit;
 mod lsp;
 mod output;
+mod progress;
 mod suppress;
 mod terminal;
 

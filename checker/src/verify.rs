@@ -201,6 +201,26 @@ impl CheckOptions {
         self.behaviour
     }
 
+    /// The state limit and the time limit, as people read them
+    /// (`10,000,000 states` or `10,000,000 states or 30s`).
+    pub fn describe_limits(&self) -> String {
+        let digits = self.max_states.to_string();
+        let mut states = String::new();
+        for (i, c) in digits.chars().enumerate() {
+            if i > 0 && (digits.len() - i) % 3 == 0 {
+                states.push(',');
+            }
+            states.push(c);
+        }
+        match self.timeout {
+            Some(t) => format!(
+                "{states} states or {}",
+                genom_model::duration::format_ns(u64::try_from(t.as_nanos()).unwrap_or(u64::MAX))
+            ),
+            None => format!("{states} states"),
+        }
+    }
+
     pub(crate) fn limits(&self, started: Instant) -> Limits {
         Limits {
             max_states: self.max_states,

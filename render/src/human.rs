@@ -52,23 +52,14 @@ pub fn render_advice_line(sources: &SourceMap, d: &Diagnostic, options: HumanOpt
     let place = if at.file.is_empty() {
         String::new()
     } else {
-        format!(
-            " ({}:{}:{})",
-            escaped(&at.file),
-            at.line,
-            at.column
-        )
+        format!(" ({}:{}:{})", escaped(&at.file), at.line, at.column)
     };
     let (on, off) = if options.color {
         ("\u{1b}[36m", "\u{1b}[0m")
     } else {
         ("", "")
     };
-    format!(
-        "{on}☞ {}{off}: {}{place}\n",
-        d.code,
-        escaped(&d.message)
-    )
+    format!("{on}☞ {}{off}: {}{place}\n", d.code, escaped(&d.message))
 }
 
 /// Renders one diagnostic as a graphical report followed by its trace.

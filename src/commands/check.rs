@@ -8,6 +8,7 @@ use genom_render::{FileReport, escaped, github, human, json, sarif};
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{CheckArgs, Deny, EngineArg, Format, OutputArgs};
 use crate::config::{self, Config};
+use crate::progress::Progress;
 use crate::{suppress, terminal};
 
 /// Exploration states allowed when neither `--max-states` nor the
@@ -33,7 +34,13 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
             }
         };
         let (options, inputs) = effective(args, config.as_ref(), path);
-        match genom_check::check_path(path, &inputs, &options) {
+        let progress = Progress::wanted(output.format == Format::Human, output.quiet)
+            .then(|| Progress::start(display(path), options.describe_limits()));
+        let checked = genom_check::check_path(path, &inputs, &options);
+        if let Some(p) = progress {
+            p.finish();
+        }
+        match checked {
             Ok(mut result) => {
                 let levels = config.map(|c| c.levels).unwrap_or_default();
                 if let Err(e) = suppress::apply(&mut result, &levels) {

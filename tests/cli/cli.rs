@@ -280,7 +280,11 @@ fn advice_takes_one_line_unless_verbose() {
             && advice[0].ends_with("(specs/pilot.gen:19:3)"),
         "{short:#?}"
     );
-    assert!(short.iter().any(|l| l.contains("`--verbose` shows it in full")));
+    assert!(
+        short
+            .iter()
+            .any(|l| l.contains("`--verbose` shows it in full"))
+    );
     let full = stdout_lines(&["--color", "never", "--verbose", "specs/pilot.gen"]);
     let text = full.join("\n");
     assert!(text.contains("`moveDistance::goto` has no WCET"), "{text}");
@@ -310,6 +314,73 @@ fn a_clean_component_takes_a_few_lines() {
             lines.iter().all(|l| !l.contains('×') && !l.contains('⚠')),
             "{shown} is clean: {lines:#?}"
         );
-        assert!(lines.len() <= 15, "{shown}: {} lines\n{lines:#?}", lines.len());
+        assert!(
+            lines.len() <= 15,
+            "{shown}: {} lines\n{lines:#?}",
+            lines.len()
+        );
     }
+}
+
+/// Runs `genom-check ARGS` under a pseudo-terminal (util-linux `script`),
+/// returning what the terminal showed; `None` without `script`.
+fn on_a_terminal(args: &[&str]) -> Option<String> {
+    let bin = assert_cmd::cargo::cargo_bin("genom-check");
+    let mut line = bin.to_string_lossy().into_owned();
+    for a in args {
+        line.push(' ');
+        line.push_str(a);
+    }
+    let out = std::process::Command::new("script")
+        .args(["-qec", &line, "/dev/null"])
+        .output()
+        .ok()?;
+    Some(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+#[test]
+fn a_long_check_shows_progress_on_a_terminal_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.gen");
+    let generated = genom_check()
+        .args([
+            "generate",
+            "--seed",
+            "3",
+            "--services",
+            "14",
+            "--threads",
+            "4",
+        ])
+        .args(["--codels", "4", "--density", "0.5"])
+        .output()
+        .unwrap();
+    std::fs::write(&path, &generated.stdout).unwrap();
+    let file = path.to_string_lossy().into_owned();
+    let long = ["--no-reduction", "--timeout", "3s", file.as_str()];
+    let Some(shown) = on_a_terminal(&long) else {
+        eprintln!("SKIPPED: util-linux `script` (a pseudo-terminal) is not installed");
+        return;
+    };
+    assert!(
+        shown.contains("genom-check: checking") && shown.contains(" states, "),
+        "{shown}"
+    );
+    assert!(
+        shown.contains("stops at 10,000,000 states or 3s"),
+        "{shown}"
+    );
+    assert!(shown.contains("\x1b[2K"), "the line is erased: {shown}");
+    let json = on_a_terminal(&[
+        "--format",
+        "json",
+        "--no-reduction",
+        "--timeout",
+        "3s",
+        &file,
+    ])
+    .unwrap_or_default();
+    assert!(!json.contains("genom-check: checking"), "{json}");
+    let piped = genom_check().args(long).output().unwrap();
+    assert!(!String::from_utf8_lossy(&piped.stderr).contains("checking"));
 }

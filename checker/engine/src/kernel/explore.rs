@@ -267,7 +267,8 @@ pub fn explore_until<M: Model>(
 }
 
 /// The state limit is checked before every expansion; time and memory
-/// every `16 × period` expansions.
+/// every `16 × period` expansions, when the states stored so far are also
+/// reported for a progress display.
 fn check_limits<A: Copy, Z: Subsumes>(
     store: &Store<A, Z>,
     limits: Limits,
@@ -280,6 +281,7 @@ fn check_limits<A: Copy, Z: Subsumes>(
     if expanded as u64 % (16 * period.max(1)) != 0 {
         return None;
     }
+    genom_model::limits::report_explored(store.len());
     if genom_model::limits::out_of_time(limits.deadline) {
         return Some(Stop::Time);
     }
@@ -312,6 +314,7 @@ fn check_successor<A: Copy, Z: Subsumes>(
     if transitions % period.max(1) != 0 {
         return None;
     }
+    genom_model::limits::report_explored(store.len());
     if genom_model::limits::out_of_time(limits.deadline) {
         return Some(Stop::Time);
     }
