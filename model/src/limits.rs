@@ -199,6 +199,23 @@ pub fn static_stopped(at: Span, limit: Limit, left: &[&str]) -> Diagnostic {
     ))
 }
 
+/// The states stored by the exploration running in this process, as its
+/// last periodic limit test saw them: what a progress display shows.
+static EXPLORED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Records that the running exploration has stored `states` states (the
+/// explorers call it at their periodic time and memory test; nothing reads
+/// it but a progress display).
+pub fn report_explored(states: usize) {
+    let states = u64::try_from(states).unwrap_or(u64::MAX);
+    EXPLORED.store(states, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The states the running exploration last reported ([`report_explored`]).
+pub fn explored() -> u64 {
+    EXPLORED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,21 +238,4 @@ mod tests {
         };
         assert_eq!(past.exceeded(), Some(Limit::Time));
     }
-}
-
-/// The states stored by the exploration running in this process, as its
-/// last periodic limit test saw them: what a progress display shows.
-static EXPLORED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-
-/// Records that the running exploration has stored `states` states (the
-/// explorers call it at their periodic time and memory test; nothing reads
-/// it but a progress display).
-pub fn report_explored(states: usize) {
-    let states = u64::try_from(states).unwrap_or(u64::MAX);
-    EXPLORED.store(states, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// The states the running exploration last reported ([`report_explored`]).
-pub fn explored() -> u64 {
-    EXPLORED.load(std::sync::atomic::Ordering::Relaxed)
 }
