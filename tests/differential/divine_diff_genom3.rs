@@ -192,7 +192,7 @@ fn divine(exe: &Path, model: &Path, index: usize) -> Result<Option<bool>, String
     // then may still answer: any error is a failure.
     if let Some(e) = all
         .lines()
-        .find(|l| l.contains("Error") || l.contains("ERROR"))
+        .find(|l| l.trim_start().starts_with("Error") || l.contains("FATAL ERROR"))
     {
         return Err(format!("DIVINE: {}", e.trim()));
     }
