@@ -260,6 +260,7 @@ fn divine_case(case: &Case, exe: &Path, dir: &Path, run: &mut Run) {
     std::fs::write(dir.join(format!("{}.ltl", case.name)), ltl_file(&queries))
         .expect("writes the properties");
     let labels = distinct_labels(&net);
+    let (problems, failing) = (run.tally.problems.len(), run.failing.len());
     // A timed component genom-check verifies: every query must hold.
     let verified =
         case.wcet.is_some() && !r.diagnostics.iter().any(|d| d.severity == Severity::Error);
@@ -310,6 +311,13 @@ fn divine_case(case: &Case, exe: &Path, dir: &Path, run: &mut Run) {
         queries.len(),
         started.elapsed()
     );
+    // Shown at once too, so that a long run interrupted still tells.
+    for p in &run.tally.problems[problems..] {
+        eprintln!("  DISAGREEMENT {p}");
+    }
+    for f in &run.failing[failing..] {
+        eprintln!("  FAILS {f}");
+    }
 }
 
 #[test]
