@@ -3,8 +3,9 @@
 //! shows as `ignored` with its reason instead of passing without running.
 //! `cfg(genom_spin)`: `spin` and `gcc` answer (or `GENOM_REQUIRE_SPIN=1`,
 //! which makes their absence a failure); `cfg(genom_tchecker)`: `TCK_REACH`
-//! names a file; `cfg(genom_sarif_schema)`: `SARIF_SCHEMA` names the SARIF
-//! 2.1.0 JSON schema file.
+//! names a file; `cfg(genom_divine)`: `DIVINE` names a file (DIVINE 3.3.2,
+//! docs/testing/divine.md); `cfg(genom_sarif_schema)`: `SARIF_SCHEMA` names
+//! the SARIF 2.1.0 JSON schema file.
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -25,6 +26,8 @@ fn main() {
     println!("cargo::rerun-if-env-changed=TCK_REACH");
     println!("cargo::rustc-check-cfg=cfg(genom_spin)");
     println!("cargo::rustc-check-cfg=cfg(genom_tchecker)");
+    println!("cargo::rerun-if-env-changed=DIVINE");
+    println!("cargo::rustc-check-cfg=cfg(genom_divine)");
     println!("cargo::rerun-if-env-changed=SARIF_SCHEMA");
     println!("cargo::rustc-check-cfg=cfg(genom_sarif_schema)");
     if std::env::var_os("SARIF_SCHEMA").is_some_and(|p| Path::new(&p).is_file()) {
@@ -36,5 +39,8 @@ fn main() {
     }
     if std::env::var_os("TCK_REACH").is_some_and(|p| Path::new(&p).is_file()) {
         println!("cargo::rustc-cfg=genom_tchecker");
+    }
+    if std::env::var_os("DIVINE").is_some_and(|p| Path::new(&p).is_file()) {
+        println!("cargo::rustc-cfg=genom_divine");
     }
 }

@@ -526,7 +526,10 @@ impl<'a> Printer<'a> {
             let (formula, comment) = match l.kind {
                 LabelKind::Codel(_) => (
                     format!("E<> {at}"),
-                    format!("{}: the codel can run", l.name),
+                    format!(
+                        "{}: the codel can run (fails exactly when genom-check warns it unreachable)",
+                        l.name
+                    ),
                 ),
                 LabelKind::Timeout(_) => (
                     format!("A[] not {at}"),
