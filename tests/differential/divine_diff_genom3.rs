@@ -268,10 +268,9 @@ fn divine_case(case: &Case, exe: &Path, dir: &Path, run: &mut Run) {
     // unreachable (whose `E<>` query fails, as the warning says): every
     // query must hold.
     let verified = case.wcet.is_some()
-        && !r
-            .diagnostics
-            .iter()
-            .any(|d| d.severity == Severity::Error || d.code == genom_model::Code::UnreachableCodel);
+        && !r.diagnostics.iter().any(|d| {
+            d.severity == Severity::Error || d.code == genom_model::Code::UnreachableCodel
+        });
     run.verified_components += usize::from(verified);
     let started = Instant::now();
     for (i, q) in queries.iter().enumerate() {
