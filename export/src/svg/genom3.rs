@@ -17,8 +17,8 @@ use super::geometry::{ClusterIn, Input, NodeIn, Rect};
 use super::layout;
 use super::render::{Canvas, FONT, TextStyle, block_size, line_height, text_width};
 use super::{
-    CLUSTER_LINE, DOT, Legend, Part, RING, SERVICE_LINE, box_node, circle_node, dash, label,
-    label_size, lighter, part,
+    CLUSTER_LINE, DOT, Legend, Part, SERVICE_LINE, box_node, circle_node, dash, label, label_size,
+    lighter, part,
 };
 use crate::dot::genom3::{
     BoxKind, G3Diagrams, G3EdgeKind, G3Machine, G3NodeKind, TABLE_HEADER, TaskGroup,
@@ -251,17 +251,7 @@ fn machine(m: &G3Machine) -> Part {
         let fill = n.kind.fill();
         match n.kind {
             G3NodeKind::Event => c.ellipse(Some(&n.id), &class, r, fill, "#000000", ""),
-            G3NodeKind::Ether => {
-                let inner = Rect {
-                    x: r.x + RING,
-                    y: r.y + RING,
-                    w: r.w - 2.0 * RING,
-                    h: r.h - 2.0 * RING,
-                };
-                c.ellipse(Some(&n.id), &class, inner, fill, "#1c2833", "");
-                c.ellipse(None, "ring", r, "none", "#1c2833", "");
-                c.text_in(r, lines, TextStyle::centred("label"));
-            }
+            G3NodeKind::Ether => super::draw_ring(&mut c, (&n.id, &class), r, fill, lines),
             kind => {
                 let (rx, extra) = match kind {
                     G3NodeKind::Validate => (0.0, " stroke-dasharray=\"4,3\""),

@@ -156,6 +156,26 @@ pub(crate) fn draw_cluster(
     c.text(x, y + line_height(FONT), &[detail.to_owned()], style);
 }
 
+/// A terminal node (`end`, `ether`): a disc inside a ring, its label in
+/// the middle.
+pub(crate) fn draw_ring(
+    c: &mut Canvas,
+    (id, class): (&str, &str),
+    r: Rect,
+    fill: &str,
+    lines: &[String],
+) {
+    let inner = Rect {
+        x: r.x + RING,
+        y: r.y + RING,
+        w: r.w - 2.0 * RING,
+        h: r.h - 2.0 * RING,
+    };
+    c.ellipse(Some(id), class, inner, fill, "#1c2833", "");
+    c.ellipse(None, "ring", r, "none", "#1c2833", "");
+    c.text_in(r, lines, TextStyle::centred("label"));
+}
+
 /// The dash pattern of an edge style.
 fn dash(dashed: bool, dotted: bool) -> &'static str {
     if dotted {
@@ -282,17 +302,7 @@ fn machine(m: &Machine) -> Part {
         let fill = n.kind.fill();
         match n.kind {
             NodeKind::Request => c.ellipse(Some(&n.id), &class, r, fill, "#000000", ""),
-            NodeKind::End => {
-                let inner = Rect {
-                    x: r.x + RING,
-                    y: r.y + RING,
-                    w: r.w - 2.0 * RING,
-                    h: r.h - 2.0 * RING,
-                };
-                c.ellipse(Some(&n.id), &class, inner, fill, "#1c2833", "");
-                c.ellipse(None, "ring", r, "none", "#1c2833", "");
-                c.text_in(r, lines, TextStyle::centred("label"));
-            }
+            NodeKind::End => draw_ring(&mut c, (&n.id, &class), r, fill, lines),
             NodeKind::Report => {
                 c.rect(Some(&n.id), &class, r, 2.0, fill, "#922b21", "");
                 c.text_in(r, lines, TextStyle::centred("label"));
