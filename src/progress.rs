@@ -79,7 +79,7 @@ fn show(file: &str, limits: &str, stop: &AtomicBool) {
         let line = format!(
             "genom-check: checking {}: {} states, {:.0} s (stops at {limits})",
             genom_render::escaped(file),
-            grouped(genom_model::limits::explored()),
+            genom_model::limits::grouped(genom_model::limits::explored()),
             (now - started).as_secs_f64()
         );
         let mut err = std::io::stderr().lock();
@@ -91,29 +91,5 @@ fn show(file: &str, limits: &str, stop: &AtomicBool) {
         let mut err = std::io::stderr().lock();
         let _ = write!(err, "\r\x1b[2K");
         let _ = err.flush();
-    }
-}
-
-/// `1234567` as `1,234,567`.
-fn grouped(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn counts_are_grouped_by_thousands() {
-        assert_eq!(super::grouped(0), "0");
-        assert_eq!(super::grouped(999), "999");
-        assert_eq!(super::grouped(1000), "1,000");
-        assert_eq!(super::grouped(10_000_000), "10,000,000");
     }
 }

@@ -204,14 +204,8 @@ impl CheckOptions {
     /// The state limit and the time limit, as people read them
     /// (`10,000,000 states` or `10,000,000 states or 30s`).
     pub fn describe_limits(&self) -> String {
-        let digits = self.max_states.to_string();
-        let mut states = String::new();
-        for (i, c) in digits.chars().enumerate() {
-            if i > 0 && (digits.len() - i) % 3 == 0 {
-                states.push(',');
-            }
-            states.push(c);
-        }
+        let states =
+            genom_model::limits::grouped(u64::try_from(self.max_states).unwrap_or(u64::MAX));
         match self.timeout {
             Some(t) => format!(
                 "{states} states or {}",

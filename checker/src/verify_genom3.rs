@@ -96,10 +96,24 @@ pub fn verify_genom3(
                 out.extend(thread_overrun::check_genom3(&m, &timing));
                 long_codels = codel_overrun::genom3_traces(&m, &timing);
                 if let Some(stop) = timing.stopped {
-                    out.push(incomplete::incomplete(
+                    let mut proven = proven_timing(&m, &timing);
+                    if analysis.stopped.is_none() {
+                        proven.push(
+                            "the untimed verdicts (dead services, codel reachability, livelocks)"
+                                .to_owned(),
+                        );
+                    }
+                    let spent = format!(
+                        "{} timed states in {:.1} s",
+                        genom_model::limits::grouped(timing.states),
+                        started.elapsed().as_secs_f64()
+                    );
+                    out.push(incomplete::incomplete_partly(
                         c,
                         stop,
                         &unproven_timing(&m, &timing),
+                        &proven,
+                        &spent,
                     ));
                 }
                 states += timing.states;
@@ -283,6 +297,21 @@ fn statically_reachable(fsm: &Fsm) -> BTreeSet<u8> {
 /// task whose group was explored to the end is decided (not listed); of the
 /// others, one found overrunning has its traces (other causes may be
 /// missing), and one not found may or may not overrun.
+/// The tasks a finished timed exploration proved never overrun.
+fn proven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<String> {
+    let found: BTreeSet<usize> = timing.overruns.iter().map(|o| o.task).collect();
+    let safe: BTreeSet<usize> = timing
+        .records
+        .iter()
+        .filter(|g| g.complete)
+        .flat_map(|g| g.tasks.iter().copied())
+        .filter(|t| !found.contains(t) && m.tasks[*t].period_ns.is_some())
+        .collect();
+    safe.iter()
+        .map(|&t| format!("task `{}` never overruns", m.tasks[t].name))
+        .collect()
+}
+
 fn unproven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> String {
     let decided: BTreeSet<usize> = timing
         .records

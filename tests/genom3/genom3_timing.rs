@@ -346,6 +346,21 @@ fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
         help.contains("other causes of overrun of task `c`"),
         "{help}"
     );
+    // What was proven (the untimed exploration finished) and spent.
+    assert!(
+        help.contains(
+            "Proven: the untimed verdicts (dead services, codel reachability, livelocks)"
+        ),
+        "{help}"
+    );
+    assert!(
+        help.contains("Stopped after ") && help.contains(" timed states in "),
+        "{help}"
+    );
+    assert!(
+        !help.contains("never overruns"),
+        "no task is proven here: {help}"
+    );
     assert_eq!(overrunning(&r), ["c"]);
     let c = r.component.as_ref().expect("a component");
     for d in r

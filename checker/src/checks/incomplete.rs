@@ -54,6 +54,24 @@ pub fn incomplete(c: &Component, stop: Stop, what: &str) -> Diagnostic {
     .with_help(format!("left unproven: {what}; raise the limit to finish"))
 }
 
+/// [`incomplete`], also saying what the run did prove (`proven`, when
+/// anything) and what it spent (`spent`: `2,447,164 states in 10.0 s`).
+pub fn incomplete_partly(
+    c: &Component,
+    stop: Stop,
+    what: &str,
+    proven: &[String],
+    spent: &str,
+) -> Diagnostic {
+    let d = incomplete(c, stop, what);
+    let mut help = d.help.clone().unwrap_or_default();
+    if !proven.is_empty() {
+        help.push_str(&format!(". Proven: {}", proven.join("; ")));
+    }
+    help.push_str(&format!(". Stopped after {spent}"));
+    d.with_help(help)
+}
+
 /// A component with WCETs whose timing the timed engine cannot model
 /// (`what` says why): its untimed verdicts stand, its timing is unproven.
 pub fn timing_not_modelled(c: &Component, what: &str) -> Diagnostic {
