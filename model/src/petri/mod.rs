@@ -254,6 +254,18 @@ impl Transition {
 }
 
 impl PetriNet {
+    /// A net without places or transitions, for a builder to fill.
+    pub fn empty() -> PetriNet {
+        PetriNet {
+            places: Vec::new(),
+            transitions: Vec::new(),
+            initial: Vec::new(),
+            services: Vec::new(),
+            init_done: PlaceId(0),
+            init_not_done: PlaceId(0),
+        }
+    }
+
     /// The place with this id.
     pub fn place(&self, p: PlaceId) -> Option<&Place> {
         self.places.get(p.index())

@@ -30,14 +30,7 @@ pub trait BuildPetriNet {
 
 impl BuildPetriNet for PetriNet {
     fn build(c: &Component, b: &Behaviour) -> PetriNet {
-        let net = PetriNet {
-            places: Vec::new(),
-            transitions: Vec::new(),
-            initial: Vec::new(),
-            services: Vec::new(),
-            init_done: PlaceId(0),
-            init_not_done: PlaceId(0),
-        };
+        let net = PetriNet::empty();
         let mut builder = Builder { c, b, net };
         builder.places();
         for s in c.services.ids() {

@@ -115,14 +115,7 @@ struct Builder<'c> {
 
 impl<'c> Builder<'c> {
     fn new(c: &'c Component, r: Reading) -> Self {
-        let net = PetriNet {
-            places: Vec::new(),
-            transitions: Vec::new(),
-            initial: Vec::new(),
-            services: Vec::new(),
-            init_done: PlaceId(0),
-            init_not_done: PlaceId(0),
-        };
+        let net = PetriNet::empty();
         let order = r
             .tasks
             .iter()
