@@ -12,7 +12,7 @@ mod common;
 use std::path::Path;
 
 use genom_checker::{CheckOptions, Engine};
-use genom_export::{ExportInput, Format, Verification, config};
+use genom_export::config;
 use serde_json::Value;
 
 const SCHEMA_PATH: &str = "schema/runtime-config.schema.json";
@@ -27,25 +27,7 @@ fn export_config(path: &Path) -> String {
 /// [`export_config`] with check options; the component is exported even
 /// when unverified (as `--allow-unverified` does).
 fn export_with(path: &Path, options: &CheckOptions) -> String {
-    let result = common::check_with(path, options);
-    let component = result.component.as_ref().expect("spec has a component");
-    let verification = Verification::of(
-        Some(component),
-        &result.diagnostics,
-        result.statistics.as_ref(),
-        "0.0.0-test",
-    );
-    let input = ExportInput {
-        component,
-        sources: &result.sources,
-        verification: &verification,
-    };
-    let exported = genom_export::export(Format::Config, &input).expect("config export succeeds");
-    assert!(
-        exported.extra.is_empty(),
-        "the config export has no companion file"
-    );
-    exported.main
+    common::export_config_as_cli(&common::check_with(path, options))
 }
 
 #[test]

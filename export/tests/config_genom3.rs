@@ -15,7 +15,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use genom_checker::CheckOptions;
-use genom_export::{ExportInput, Format, Verification, config};
+use genom_export::config;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 
@@ -39,24 +39,8 @@ fn fixture(name: &str, ext: &str) -> PathBuf {
 fn export(path: &Path, wcet: Option<&Path>, includes: &[PathBuf]) -> (common::CheckResult, String) {
     let options = CheckOptions::new().response_times(wcet.is_some());
     let result = common::check_genom3(path, includes, wcet, &options);
-    let component = result.component.as_ref().expect("a component");
-    let verification = Verification {
-        response_times: result.response_times.clone(),
-        ..Verification::of(
-            Some(component),
-            &result.diagnostics,
-            result.statistics.as_ref(),
-            "0.0.0-test",
-        )
-    };
-    let input = ExportInput {
-        component,
-        sources: &result.sources,
-        verification: &verification,
-    };
-    let exported = genom_export::export(Format::Config, &input).expect("config export succeeds");
-    assert!(exported.extra.is_empty(), "no companion file");
-    (result, exported.main)
+    let text = common::export_config_as_cli(&result);
+    (result, text)
 }
 
 fn timed_doc(name: &str) -> (common::CheckResult, Value) {

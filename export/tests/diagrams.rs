@@ -7,6 +7,8 @@
 
 mod common;
 
+use common::stem;
+
 use common::export;
 
 use std::collections::BTreeSet;
@@ -15,13 +17,6 @@ use std::path::Path;
 use genom_export::Format;
 use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
-
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .expect("file stem")
-        .to_string_lossy()
-        .into_owned()
-}
 
 /// (service, codel, on-inter target) of every codel with an `on-inter`.
 fn on_inters(c: &Component) -> Vec<(String, String, String)> {

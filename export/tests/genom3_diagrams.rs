@@ -10,6 +10,8 @@
 
 mod common;
 
+use common::stem;
+
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -17,13 +19,6 @@ use common::{CheckResult, GENOM3_DIAGRAM_FIXTURES, export};
 use genom_export::Format;
 use genom_model::component::Component;
 use genom_model::component::genom3::{FsmCodel, Genom3Info};
-
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .expect("file stem")
-        .to_string_lossy()
-        .into_owned()
-}
 
 fn genom3(c: &Component) -> &Genom3Info {
     c.genom3.as_ref().expect("a GenoM3 component")

@@ -9,6 +9,8 @@
 
 mod common;
 
+use common::stem;
+
 use common::nets::{check_pnml, tina_name, tr_parts};
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -41,13 +43,6 @@ fn export(result: &CheckResult, format: Format) -> String {
     let exported = genom_export::export(format, &input).expect("export succeeds");
     assert!(exported.extra.is_empty(), "no companion file");
     exported.main
-}
-
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .expect("file stem")
-        .to_string_lossy()
-        .into_owned()
 }
 
 fn net_of(result: &CheckResult) -> PetriNet {

@@ -10,6 +10,8 @@
 
 mod common;
 
+use common::stem;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -21,13 +23,6 @@ use genom_model::component::Component;
 use genom_model::kinds::CodelKind;
 use genom_model::timed_automata::{CmpOp, LabelKind, Network, ProcessKind};
 use genom_translate::timed_automata::BuildNetwork;
-
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .expect("file name")
-        .to_string_lossy()
-        .into_owned()
-}
 
 /// The resolved component of a file (static checks only).
 fn component_of(path: &Path) -> Component {

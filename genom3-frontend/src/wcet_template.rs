@@ -48,7 +48,7 @@ pub fn wcet_template(c: &Component, file: &str, version: &str) -> Option<String>
             ));
         }
     }
-    for s in c.services.values() {
+    for (sid, s) in c.services.iter() {
         let lines = service_lines(c, g, s);
         if lines.is_empty() {
             continue;
@@ -56,7 +56,7 @@ pub fn wcet_template(c: &Component, file: &str, version: &str) -> Option<String>
         let kind = g
             .services
             .iter()
-            .find(|i| c.services.get(i.service).is_some_and(|x| x.name == s.name))
+            .find(|i| i.service == sid)
             .map_or("service", |i| i.kind.as_str());
         let title = match s.thread.and_then(|r| c.threads.get(r.id)) {
             Some(t) => format!("{kind} `{}` (task `{}`)", s.name.name, t.name.name),

@@ -203,3 +203,39 @@ pub fn validator(path: &str) -> jsonschema::Validator {
         .build(&schema)
         .expect("schema compiles")
 }
+
+/// The file stem of `path` (snapshot names).
+pub fn stem(path: &Path) -> String {
+    path.file_stem()
+        .expect("file stem")
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// The `config` export of a checked file with the verification record the
+/// CLI builds (its response times included; a fixed tool version, so
+/// snapshots do not change with releases), exported even when unverified
+/// (as `--allow-unverified` does).
+pub fn export_config_as_cli(result: &CheckResult) -> String {
+    let component = result.component.as_ref().expect("a component");
+    let verification = Verification {
+        response_times: result.response_times.clone(),
+        ..Verification::of(
+            Some(component),
+            &result.diagnostics,
+            result.statistics.as_ref(),
+            "0.0.0-test",
+        )
+    };
+    let input = ExportInput {
+        component,
+        sources: &result.sources,
+        verification: &verification,
+    };
+    let exported = genom_export::export(Format::Config, &input).expect("config export succeeds");
+    assert!(
+        exported.extra.is_empty(),
+        "the config export has no companion file"
+    );
+    exported.main
+}
