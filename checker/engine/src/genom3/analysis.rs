@@ -158,11 +158,11 @@ pub(crate) fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool)
             *w |= d;
         }
         if let Some(id) = booted {
-            boot = exploration.store.path(id);
+            boot = exploration.path(&engine, id);
         }
         for (k, (id, owner, state)) in entered {
             let mut path = if perms { Vec::new() } else { boot.clone() };
-            path.extend(exploration.store.path(id));
+            path.extend(exploration.path(&engine, id));
             let cycle = rotate(&cycles[k], state);
             out.livelocks.push(Livelock {
                 trace: lasso(&whole, &path, owner, &cycle),

@@ -405,6 +405,11 @@ impl Model for Engine<'_> {
     type Action = G3Action;
     type Zone = ();
 
+    /// Paths are found again from the parents (no reduction; a step read
+    /// again records only completions already read: the analysis reads
+    /// them before it asks for paths).
+    const KEEPS_ACTIONS: bool = false;
+
     fn width(&self) -> usize {
         self.layout.width()
     }

@@ -85,6 +85,16 @@ pub trait Model {
     fn limit_period(&self) -> u64 {
         64
     }
+    /// Whether the store keeps, per state, the action that first reached
+    /// it (default: yes). A model that answers `false` saves those bytes
+    /// per state; its paths are found again from the parents
+    /// ([`Exploration::path`]), each step as the first action (in
+    /// [`Model::actions`] order) from the parent to the stored state. Only
+    /// for a model without [`Model::reduce`], whose exploration fires the
+    /// actions in that order, so that the path is the one explored, and
+    /// whose steps are functions of the state (firing one again changes
+    /// nothing the analysis reads).
+    const KEEPS_ACTIONS: bool = true;
 }
 
 /// Resource limits of one run.
@@ -137,6 +147,47 @@ pub struct Exploration<A, Z = ()> {
 }
 
 impl<A: Copy, Z: Subsumes> Exploration<A, Z> {
+    /// The actions from an initial state to `id`: the stored ones, or, for
+    /// a model that keeps none ([`Model::KEEPS_ACTIONS`]), found again
+    /// step by step from the parents.
+    pub fn path<M: Model<Action = A, Zone = Z>>(&self, model: &M, id: StateId) -> Vec<A> {
+        if self.store.keeps_actions() {
+            return self.store.path(id);
+        }
+        let mut ids = vec![id];
+        while let Some(p) = self.store.parent(ids[ids.len() - 1]) {
+            ids.push(p);
+        }
+        ids.reverse();
+        let mut out = Vec::with_capacity(ids.len());
+        let (mut actions, mut key, mut next) = (Vec::new(), Vec::new(), None);
+        for pair in ids.windows(2) {
+            let (from, to) = (pair[0], pair[1]);
+            let state = self.store_config(model, from);
+            actions.clear();
+            model.actions(&state, &mut actions);
+            let found = actions.iter().copied().find(|&a| {
+                if !model.step_into(&state, a, &mut next) {
+                    return false;
+                }
+                let Some(succ) = next.as_ref() else {
+                    return false;
+                };
+                key.clear();
+                model.encode(succ, &mut key);
+                key == self.store.get(to) && model.zone(succ) == *self.store.zone(to)
+            });
+            // Every stored state was reached from its parent by one of its
+            // actions; a path that could not be found again stops short.
+            debug_assert!(found.is_some(), "no action from {from} to {to}");
+            match found {
+                Some(a) => out.push(a),
+                None => break,
+            }
+        }
+        out
+    }
+
     /// The decoded state `id`.
     pub fn store_config<M: Model<Action = A, Zone = Z>>(&self, model: &M, id: StateId) -> M::State {
         model.decode(self.store.get(id), self.store.zone(id))
@@ -177,7 +228,7 @@ pub fn explore_until<M: Model>(
 ) -> Exploration<M::Action, M::Zone> {
     let started = Instant::now();
     let mut all_found = false;
-    let mut store = Store::new(model.width());
+    let mut store = Store::with_actions(model.width(), M::KEEPS_ACTIONS);
     let mut key = Vec::with_capacity(model.width());
     for s in model.init_states() {
         key.clear();
@@ -366,6 +417,54 @@ mod tests {
         assert_eq!(e.transitions, 24);
         let (far, _) = seen.iter().copied().find(|&(_, s)| s == (2, 2)).unwrap();
         assert_eq!(e.store.path(far).len(), 4);
+    }
+
+    /// [`Counters`] in a store that keeps no actions.
+    struct Forgetful;
+
+    impl Model for Forgetful {
+        type State = (u64, u64);
+        type Action = bool;
+        type Zone = ();
+        const KEEPS_ACTIONS: bool = false;
+        fn width(&self) -> usize {
+            Counters.width()
+        }
+        fn init_states(&self) -> Vec<(u64, u64)> {
+            Counters.init_states()
+        }
+        fn actions(&self, s: &(u64, u64), out: &mut Vec<bool>) {
+            Counters.actions(s, out);
+        }
+        fn next_state(&self, s: &(u64, u64), first: bool) -> Option<(u64, u64)> {
+            Counters.next_state(s, first)
+        }
+        fn encode(&self, s: &(u64, u64), out: &mut Vec<u64>) {
+            Counters.encode(s, out);
+        }
+        fn decode(&self, w: &[u64], (): &()) -> (u64, u64) {
+            Counters.decode(w, &())
+        }
+        fn zone(&self, _: &(u64, u64)) {}
+    }
+
+    #[test]
+    fn paths_found_again_from_the_parents_are_the_stored_ones() {
+        let kept = explore(&Counters, Limits::default(), |_, _| {});
+        let found = explore(&Forgetful, Limits::default(), |_, _| {});
+        assert!(!found.store.keeps_actions() && kept.store.keeps_actions());
+        assert_eq!(found.store.len(), kept.store.len());
+        for id in 0..12 {
+            let path = found.path(&Forgetful, id);
+            assert_eq!(path, kept.path(&Counters, id), "state {id}");
+            assert!(found.store.path(id).is_empty());
+            // The path leads to the state.
+            let end = path
+                .iter()
+                .fold((0, 0), |s, &a| Counters.next_state(&s, a).unwrap());
+            assert_eq!(end, found.store_config(&Forgetful, id));
+        }
+        assert!(found.store.bytes() < kept.store.bytes());
     }
 
     #[test]

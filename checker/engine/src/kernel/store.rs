@@ -1,7 +1,8 @@
 //! Compact storage of explored states: every state is a fixed number of
 //! 64-bit words in one arena, deduplicated by a hash table of `u32` slots
-//! (an index and a hash tag, [`table`]), with the parent and the action
-//! that first reached it, so that counterexamples are replayable paths.
+//! (an index and a hash tag, [`table`]), with the parent that first reached
+//! it and, unless the model re-derives it, the action, so that
+//! counterexamples are replayable paths.
 //! The arena and the per-state columns grow in chunks ([`column`]): no
 //! per-state allocation, no copy on growth, and the bytes counted per state
 //! are about the bytes used.
@@ -77,7 +78,12 @@ pub struct Store<A, Z = ()> {
     /// For each stored words, the newest state with them.
     table: Table,
     parents: Column<StateId>,
+    /// Per state, the action that first reached it; empty when the store
+    /// keeps no actions (the model finds them again from the parents:
+    /// [`super::explore::Exploration::path`]).
     via: Column<Option<A>>,
+    /// Whether `via` is kept.
+    keeps_actions: bool,
 }
 
 impl<A, Z> std::fmt::Debug for Store<A, Z> {
@@ -90,8 +96,16 @@ impl<A, Z> std::fmt::Debug for Store<A, Z> {
 }
 
 impl<A: Copy, Z: Subsumes> Store<A, Z> {
-    /// An empty store of states `width` words wide.
+    /// An empty store of states `width` words wide, with the action that
+    /// reached each state.
     pub fn new(width: usize) -> Self {
+        Self::with_actions(width, true)
+    }
+
+    /// An empty store of states `width` words wide, keeping the action that
+    /// reached each state or not (then a path is found again from the
+    /// parents by the model: [`super::explore::Exploration::path`]).
+    pub fn with_actions(width: usize, keeps_actions: bool) -> Self {
         let width = width.max(1);
         Store {
             width,
@@ -102,7 +116,13 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             table: Table::new(),
             parents: Column::new(1),
             via: Column::new(1),
+            keeps_actions,
         }
+    }
+
+    /// Whether the action that reached each state is kept.
+    pub fn keeps_actions(&self) -> bool {
+        self.keeps_actions
     }
 
     /// The words of state `id`.
@@ -242,7 +262,9 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);
         self.words.push_slice(key);
         self.parents.push(parent.map_or(id, |(p, _)| p));
-        self.via.push(parent.map(|(_, a)| a));
+        if self.keeps_actions {
+            self.via.push(parent.map(|(_, a)| a));
+        }
     }
 
     /// The newest stored state with these words, if any (for untimed models,
@@ -274,7 +296,15 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.via.first(id as usize).copied().flatten()
     }
 
-    /// The actions from an initial state to `id`.
+    /// The state that first reached `id` (`None` for an initial state,
+    /// which is its own parent).
+    pub fn parent(&self, id: StateId) -> Option<StateId> {
+        let p = self.parents.get(id as usize)[0];
+        (p != id).then_some(p)
+    }
+
+    /// The actions from an initial state to `id`, in a store that keeps
+    /// them (empty otherwise: see [`super::explore::Exploration::path`]).
     pub fn path(&self, id: StateId) -> Vec<A> {
         let mut out = Vec::new();
         let mut cur = id;
@@ -289,8 +319,8 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// The initial state a path to `id` starts from.
     pub fn root(&self, id: StateId) -> StateId {
         let mut cur = id;
-        while self.via(cur).is_some() {
-            cur = self.parents.get(cur as usize)[0];
+        while let Some(p) = self.parent(cur) {
+            cur = p;
         }
         cur
     }

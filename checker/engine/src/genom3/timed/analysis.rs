@@ -157,13 +157,13 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
     let mut first = long;
     for (&t, ids) in &other {
         for &id in ids {
-            let cause = cause_on_path(te, &e.store.path(id), t);
+            let cause = cause_on_path(te, &e.path(te, id), t);
             first.entry((t, cause)).or_insert(id);
         }
     }
     out.overruns
         .extend(first.iter().map(|(&(task, cause), &id)| {
-            let path = e.store.path(id);
+            let path = e.path(te, id);
             let end = e.store_config(te, id);
             let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
             TaskOverrun {

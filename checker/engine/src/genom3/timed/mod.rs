@@ -709,6 +709,10 @@ impl Model for TimedEngine<'_> {
     type Action = TG3Action;
     type Zone = Dbm;
 
+    /// Paths are found again from the parents (no reduction; a step is a
+    /// function of the state and its zone).
+    const KEEPS_ACTIONS: bool = false;
+
     fn limit_period(&self) -> u64 {
         if self.clock_count() > 32 { 1 } else { 64 }
     }

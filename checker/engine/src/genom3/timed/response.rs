@@ -523,7 +523,7 @@ fn late_trace(
                 "from here `{name}`'s instance can run forever without replying (its codels can loop, wait in an `async` codel, or wait for an interrupted instance that can)"
             ),
         );
-        return Some(timed_trace_beyond(te, &e.store.path(id), last, None));
+        return Some(timed_trace_beyond(te, &e.path(te, id), last, None));
     }
     let units = (d / te.unit) as i64 - extra;
     let strict = d % te.unit == 0;
@@ -533,7 +533,7 @@ fn late_trace(
             format_ns(d)
         );
         let last = TraceStep::new(Event::Violation, text);
-        let t = timed_trace_beyond(te, &e.store.path(id), last, Some((x, units, strict)));
+        let t = timed_trace_beyond(te, &e.path(te, id), last, Some((x, units, strict)));
         if t.steps.last().is_some_and(|s| s.time_ns.is_some()) {
             return Some(t);
         }
