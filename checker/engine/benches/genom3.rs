@@ -25,7 +25,7 @@ use common::print;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_engine::genom3::timed::analysis::analyse_timing;
-use genom_engine::genom3::{Machine, analyse_machine};
+use genom_engine::genom3::{Machine, analyse_machine, analyse_machine_with};
 use genom_engine::kernel::explore::Limits;
 use genom_generate::{Genom3Config, generate_genom3};
 use genom_model::component::Component;
@@ -90,6 +90,18 @@ fn untimed(m: &Machine<'_>) -> (u64, u64, f64, bool) {
     )
 }
 
+/// The untimed analysis without the early stop (14.4b): a whole
+/// exploration, up to the cap, for the store's bytes per state.
+fn exhaustive(m: &Machine<'_>) -> (u64, u64, f64, bool) {
+    let a = analyse_machine_with(m, limits(), false);
+    (
+        a.states,
+        a.transitions,
+        a.footprint.bytes_per_state,
+        a.stopped.is_none(),
+    )
+}
+
 /// The timed exploration: states, transitions, bytes per state, complete.
 fn timed(m: &Machine<'_>) -> (u64, u64, f64, bool) {
     let a = analyse_timing(m, limits()).expect("few tasks");
@@ -122,6 +134,12 @@ fn bench(cr: &mut Criterion) {
             generated(1, 7, 10, 5, false),
             "untimed",
             untimed,
+        ),
+        (
+            "gen-7x10-exhaustive".into(),
+            generated(1, 7, 10, 5, false),
+            "untimed",
+            exhaustive,
         ),
     ];
     // The corpus components with a WCET file (timed and untimed), and

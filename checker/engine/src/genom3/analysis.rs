@@ -98,8 +98,8 @@ pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
 
 /// [`analyse_machine`], with or without the early stop of each part once
 /// every fact it can show is found ([`Targets`]; without, for tests that
-/// compare).
-pub(crate) fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3Analysis {
+/// compare, and for the bench that measures a whole exploration's store).
+pub fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3Analysis {
     let c = m.c;
     let whole = Engine::new(m.clone());
     let cycles = unpaused_cycles(&whole.m);

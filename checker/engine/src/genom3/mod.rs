@@ -29,5 +29,8 @@ mod tests;
 pub mod timed;
 pub mod trace;
 
-pub use analysis::{Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, unpaused_cycles};
+pub use analysis::{
+    Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, analyse_machine_with,
+    unpaused_cycles,
+};
 pub use machine::{Machine, Owner, POOL};
