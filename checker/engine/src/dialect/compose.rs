@@ -358,7 +358,7 @@ fn edges(model: &Composed<'_>, e: &Exploration<Step>) -> Option<Vec<Vec<StateId>
     let mut out = Vec::with_capacity(e.store.len());
     let (mut actions, mut key) = (Vec::new(), Vec::new());
     for id in 0..e.store.len() {
-        let st = model.decode(e.store.get(StateId::try_from(id).ok()?), &());
+        let st = model.decode(&e.store.get(StateId::try_from(id).ok()?), &());
         actions.clear();
         model.actions(&st, &mut actions);
         let mut succ = Vec::with_capacity(actions.len());
@@ -386,7 +386,7 @@ pub fn project(
 ) -> Option<Env> {
     let values: Vec<u64> = (0..e.store.len())
         .map(|id| {
-            let (cfg, d) = model.decode(e.store.get(id as StateId), &());
+            let (cfg, d) = model.decode(&e.store.get(id as StateId), &());
             interface_value(&model.sys, &cfg, layout, Some((model.env, d)))
         })
         .collect();

@@ -202,6 +202,9 @@ pub struct Layout {
     /// The completion flags kept, by service index (the others are always
     /// clear).
     kept: Vec<usize>,
+    /// Bits of an instance's [`mark`]s: [`MARK_BITS`] in the timed engine,
+    /// none in the untimed one, where they are always 0.
+    mark_bits: u32,
 }
 
 /// Bits of an instance's status (0: empty slot) and of its marks.
@@ -229,6 +232,15 @@ impl Layout {
             state_bits,
             done_words,
             kept,
+            mark_bits: 0,
+        }
+    }
+
+    /// The same layout with room for the timed engine's [`mark`]s.
+    pub fn with_marks(self) -> Self {
+        Layout {
+            mark_bits: MARK_BITS,
+            ..self
         }
     }
 
@@ -252,17 +264,28 @@ impl Layout {
 
     /// Words of a packed state.
     pub fn width(&self) -> usize {
+        words_for(self.bits())
+    }
+
+    /// Bits of a packed state (those of its last word past them are 0).
+    pub fn bits(&self) -> usize {
         let slots: usize = self
             .slot_bits()
-            .map(|b| (STATUS_BITS + b + MARK_BITS) as usize)
+            .map(|b| (STATUS_BITS + b + self.mark_bits) as usize)
             .sum();
         let head = (self.phase_bits() + self.booted_bits()) as usize;
-        words_for(head + self.kept.len() + slots)
+        head + self.kept.len() + slots
     }
 
     /// Packs `s`.
     pub fn encode(&self, s: &G3State, out: &mut Vec<u64>) {
         let mut w = BitWriter::new(out);
+        self.write(s, &mut w);
+        w.finish();
+    }
+
+    /// Packs `s` into `w`, where more fields may follow.
+    pub fn write(&self, s: &G3State, w: &mut BitWriter<'_>) {
         w.put(s.phase.code(), self.phase_bits());
         w.put(u64::from(s.booted), self.booted_bits());
         for &k in &self.kept {
@@ -276,14 +299,17 @@ impl Layout {
         for (i, b) in insts.zip(self.slot_bits()) {
             w.put(i.map_or(0, |i| u64::from(i.status.code())), STATUS_BITS);
             w.put(i.map_or(0, |i| u64::from(i.state)), b);
-            w.put(i.map_or(0, |i| u64::from(i.mark & 0x1f)), MARK_BITS);
+            w.put(i.map_or(0, |i| u64::from(i.mark & 0x1f)), self.mark_bits);
         }
-        w.finish();
     }
 
     /// Unpacks a state [`Layout::encode`] packed.
     pub fn decode(&self, words: &[u64]) -> G3State {
-        let mut r = BitReader::new(words);
+        self.read(&mut BitReader::new(words))
+    }
+
+    /// Unpacks a state [`Layout::write`] wrote, from `r`.
+    pub fn read(&self, r: &mut BitReader<'_>) -> G3State {
         let phase = Phase::from_code(r.take(self.phase_bits()));
         let booted = u8::try_from(r.take(self.booted_bits())).unwrap_or(u8::MAX);
         let mut done = vec![0; self.done_words];
@@ -295,7 +321,7 @@ impl Layout {
         let mut insts = self.slot_bits().map(|b| {
             let status = r.take(STATUS_BITS);
             let state = (r.take(b) & 0xff) as u8;
-            let mark = r.take(MARK_BITS) as u8;
+            let mark = r.take(self.mark_bits) as u8;
             let status = match status {
                 1 => Status::Delayed,
                 2 => Status::Ready,
@@ -354,6 +380,7 @@ mod tests {
             state_bits: vec![1, 3, 8, 1, 1],
             done_words: 1,
             kept: vec![0, 1, 2],
+            mark_bits: MARK_BITS,
         };
         let mut w = Vec::new();
         layout.encode(&s, &mut w);
@@ -372,5 +399,18 @@ mod tests {
         let mut w = Vec::new();
         narrow.encode(&s, &mut w);
         assert_eq!(narrow.decode(&w).done, vec![0b001]);
+        // Without marks (the untimed engine's states, whose marks are 0),
+        // 8 slots take 5 bits less each, and the state reads back.
+        let plain = Layout {
+            mark_bits: 0,
+            ..narrow
+        };
+        let mut unmarked = s.clone();
+        unmarked.perm[1] = unmarked.perm[1].map(|i| Inst { mark: 0, ..i });
+        let mut w = Vec::new();
+        plain.encode(&unmarked, &mut w);
+        assert_eq!(plain.decode(&w).perm, unmarked.perm);
+        assert_eq!(plain.decode(&w).inst, unmarked.inst);
+        assert_eq!(plain.bits() + 8 * 5, plain.clone().with_marks().bits());
     }
 }

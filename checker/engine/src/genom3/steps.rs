@@ -117,6 +117,22 @@ impl<'a> Engine<'a> {
         s
     }
 
+    /// Packs `s` into `w`, where the timed engine's fields follow.
+    pub(crate) fn write(&self, s: &G3State, w: &mut crate::kernel::store::bits::BitWriter<'_>) {
+        self.layout.write(s, w);
+    }
+
+    /// Unpacks a state [`Engine::write`] wrote.
+    pub(crate) fn read(&self, r: &mut crate::kernel::store::bits::BitReader<'_>) -> G3State {
+        self.layout.read(r)
+    }
+
+    /// The engine with room in its states for the timed engine's marks.
+    pub(crate) fn with_marks(mut self) -> Self {
+        self.layout = self.layout.with_marks();
+        self
+    }
+
     /// Records the completions of `n` as seen, then keeps only the tracked
     /// ones in it.
     fn forget_untracked(&self, n: &mut G3State) {
@@ -412,6 +428,10 @@ impl Model for Engine<'_> {
 
     fn width(&self) -> usize {
         self.layout.width()
+    }
+
+    fn bits(&self) -> usize {
+        self.layout.bits()
     }
 
     fn init_states(&self) -> Vec<G3State> {

@@ -24,6 +24,12 @@ pub trait Model {
 
     /// Words per encoded state.
     fn width(&self) -> usize;
+    /// Bits an encoded state uses: its words' bits past it are zero, and
+    /// the store keeps each state in this many bits rounded up to bytes
+    /// (default: every bit of [`Model::width`] words).
+    fn bits(&self) -> usize {
+        64 * self.width()
+    }
     /// The initial states.
     fn init_states(&self) -> Vec<Self::State>;
     /// The actions enabled in `state`, appended to `out`.
@@ -175,7 +181,7 @@ impl<A: Copy, Z: Subsumes> Exploration<A, Z> {
                 };
                 key.clear();
                 model.encode(succ, &mut key);
-                key == self.store.get(to) && model.zone(succ) == *self.store.zone(to)
+                self.store.matches(to, &key) && model.zone(succ) == *self.store.zone(to)
             });
             // Every stored state was reached from its parent by one of its
             // actions; a path that could not be found again stops short.
@@ -190,7 +196,7 @@ impl<A: Copy, Z: Subsumes> Exploration<A, Z> {
 
     /// The decoded state `id`.
     pub fn store_config<M: Model<Action = A, Zone = Z>>(&self, model: &M, id: StateId) -> M::State {
-        model.decode(self.store.get(id), self.store.zone(id))
+        model.decode(&self.store.get(id), self.store.zone(id))
     }
 }
 
@@ -228,7 +234,7 @@ pub fn explore_until<M: Model>(
 ) -> Exploration<M::Action, M::Zone> {
     let started = Instant::now();
     let mut all_found = false;
-    let mut store = Store::with_actions(model.width(), M::KEEPS_ACTIONS);
+    let mut store = Store::with_layout(model.width(), model.bits(), M::KEEPS_ACTIONS);
     let mut key = Vec::with_capacity(model.width());
     for s in model.init_states() {
         key.clear();
@@ -241,6 +247,7 @@ pub fn explore_until<M: Model>(
     let mut actions = Vec::new();
     // Reused buffers: the expanded state and one successor.
     let mut current: Option<M::State> = None;
+    let mut words = Vec::with_capacity(model.width());
     let mut successor: Option<M::State> = None;
     let mut transitions = 0u64;
     let mut next: usize = 0;
@@ -260,7 +267,8 @@ pub fn explore_until<M: Model>(
         if store.is_covered(id) {
             continue;
         }
-        model.decode_into(store.get(id), store.zone(id), &mut current);
+        store.load(id, &mut words);
+        model.decode_into(&words, store.zone(id), &mut current);
         let Some(state) = current.as_ref() else {
             continue;
         };

@@ -15,12 +15,14 @@
 
 pub mod bits;
 mod column;
+mod packed;
 mod pool;
 mod table;
 
 use std::hash::Hash;
 
 use column::Column;
+use packed::Packed;
 use pool::Pool;
 use table::{Probe, Table, hash};
 
@@ -53,19 +55,14 @@ impl Subsumes for () {
     const TRIVIAL: bool = true;
 }
 
-/// Word-by-word equality (a slice `==` calls `memcmp`, slow for the one or
-/// two words of most states).
-fn same_words(a: &[u64], b: &[u64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
-}
-
 /// End of a same-words chain.
 const NONE: StateId = StateId::MAX;
 
 /// The stored states of one exploration.
 pub struct Store<A, Z = ()> {
     width: usize,
-    words: Column<u64>,
+    /// The states' words, each in the bytes its bits need.
+    words: Packed,
     /// Per state (chained stores only), side by side so that a walk along a
     /// chain reads one place per state: the previous state with the same
     /// words ([`NONE`] at the end), and its zone's index in `pool`.
@@ -106,10 +103,17 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// reached each state or not (then a path is found again from the
     /// parents by the model: [`super::explore::Exploration::path`]).
     pub fn with_actions(width: usize, keeps_actions: bool) -> Self {
+        Self::with_layout(width, 64 * width, keeps_actions)
+    }
+
+    /// [`Store::with_actions`] for states that use `bits` bits of their
+    /// words (those past it are zero): each is kept in `bits / 8` bytes,
+    /// rounded up.
+    pub fn with_layout(width: usize, bits: usize, keeps_actions: bool) -> Self {
         let width = width.max(1);
         Store {
             width,
-            words: Column::new(width),
+            words: Packed::new(width, bits),
             chain: Column::new(2),
             pool: Pool::new(),
             covered: Column::new(1),
@@ -125,9 +129,21 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.keeps_actions
     }
 
+    /// The words of state `id`, into `out` (cleared first).
+    pub fn load(&self, id: StateId, out: &mut Vec<u64>) {
+        self.words.load(id as usize, out);
+    }
+
     /// The words of state `id`.
-    pub fn get(&self, id: StateId) -> &[u64] {
-        self.words.get(id as usize)
+    pub fn get(&self, id: StateId) -> Vec<u64> {
+        let mut out = Vec::with_capacity(self.width);
+        self.load(id, &mut out);
+        out
+    }
+
+    /// Whether state `id`'s words are `key`.
+    pub fn matches(&self, id: StateId, key: &[u64]) -> bool {
+        self.words.same(id as usize, key)
     }
 
     /// The zone of state `id`.
@@ -142,8 +158,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// Looks `key` (of hash `hash`) up in the table.
     fn probe(&self, key: &[u64], hash: u64) -> Probe {
         let words = &self.words;
-        self.table
-            .probe(hash, |id| same_words(words.get(id as usize), key))
+        self.table.probe(hash, |id| words.same(id as usize, key))
     }
 
     /// Grows the table when one more state would overfill it.
@@ -155,18 +170,14 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         self.table = if Z::TRIVIAL {
             // Every state is in the table: rehash them in id order, reading
             // the arena sequentially.
-            self.table.grown(
-                (0..)
-                    .zip(words.states())
-                    .map(|(id, w): (StateId, &[u64])| (id, hash(w))),
-            )
+            self.table.grown((0..).zip(words.map_all(hash)))
         } else {
             let heads: Vec<StateId> = self.table.ids().collect();
-            self.table.grown(
-                heads
-                    .into_iter()
-                    .map(|id| (id, hash(words.get(id as usize)))),
-            )
+            let mut buf = Vec::with_capacity(self.width);
+            self.table.grown(heads.into_iter().map(|id| {
+                words.load(id as usize, &mut buf);
+                (id, hash(&buf))
+            }))
         };
     }
 
@@ -260,7 +271,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// Appends a new state's words, parent and action.
     fn push(&mut self, key: &[u64], parent: Option<(StateId, A)>) {
         let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);
-        self.words.push_slice(key);
+        self.words.push(key);
         self.parents.push(parent.map_or(id, |(p, _)| p));
         if self.keeps_actions {
             self.via.push(parent.map(|(_, a)| a));
@@ -337,7 +348,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
 
     /// Approximate total bytes used.
     pub fn bytes(&self) -> usize {
-        self.words.capacity() * 8
+        self.words.capacity_bytes()
             + self.table.capacity() * size_of::<u32>()
             + (self.parents.capacity() + self.chain.capacity()) * size_of::<u32>()
             + self.covered.capacity()

@@ -319,7 +319,8 @@ impl<'a> TimedEngine<'a> {
             group.acts.clone(),
             group.ctls.clone(),
             group.tasks.clone(),
-        );
+        )
+        .with_marks();
         Some(TimedEngine {
             in_group: group.tasks.clone(),
             canon,
@@ -718,7 +719,12 @@ impl Model for TimedEngine<'_> {
     }
 
     fn width(&self) -> usize {
-        self.e.width() + words_for(self.extra_bits())
+        words_for(self.bits())
+    }
+
+    /// The untimed state's bits, then the timed fields'.
+    fn bits(&self) -> usize {
+        self.e.bits() + self.extra_bits()
     }
 
     fn init_states(&self) -> Vec<TG3State> {
@@ -740,9 +746,9 @@ impl Model for TimedEngine<'_> {
     }
 
     fn encode(&self, st: &TG3State, out: &mut Vec<u64>) {
-        self.e.encode(&st.g, out);
         let (n, v, q) = self.field_bits();
         let mut w = BitWriter::new(out);
+        self.e.write(&st.g, &mut w);
         w.put(st.cont, n);
         w.put(st.ticked, n);
         w.put(st.late, n);
@@ -761,10 +767,9 @@ impl Model for TimedEngine<'_> {
     }
 
     fn decode(&self, w: &[u64], zone: &Dbm) -> TG3State {
-        let k = self.e.width();
-        let g = self.e.decode(&w[..k], &());
         let (n, v, q) = self.field_bits();
-        let mut r = BitReader::new(&w[k..]);
+        let mut r = BitReader::new(w);
+        let g = self.e.read(&mut r);
         let cont = r.take(n);
         let ticked = r.take(n);
         let late = r.take(n);

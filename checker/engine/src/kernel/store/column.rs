@@ -105,6 +105,17 @@ impl<T: Copy> Column<T> {
         self.tail().extend_from_slice(values);
         self.len += 1;
     }
+
+    /// Appends one state's `per` values, written by `write` at the end of
+    /// the chunk it goes in.
+    pub(super) fn push_with(&mut self, write: impl FnOnce(&mut Vec<T>)) {
+        let per = self.per;
+        let tail = self.tail();
+        let before = tail.len();
+        write(tail);
+        debug_assert_eq!(tail.len(), before + per);
+        self.len += 1;
+    }
 }
 
 #[cfg(test)]
