@@ -17,7 +17,7 @@ use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
 use crate::genom3::trace::describe;
-use crate::kernel::explore::{Limits, Stop, explore};
+use crate::kernel::explore::{Found, Limits, Stop, explore_until};
 use crate::kernel::store::{Footprint, StateId};
 
 /// A task that can overrun for one cause, with its trace.
@@ -96,11 +96,23 @@ pub fn analyse_timing(m: &Machine<'_>, limits: Limits) -> Option<TimingAnalysis>
 }
 
 /// [`analyse_timing`], with or without the quiet-request reduction
-/// ([`TimedEngine::changes_nothing`]; without, for tests that compare).
+/// ([`TimedEngine::changes_nothing`]) and the early stop (without, for
+/// tests that compare).
 pub(crate) fn analyse_timing_with(
     m: &Machine<'_>,
     limits: Limits,
     reduce: bool,
+) -> Option<TimingAnalysis> {
+    analyse_timing_early(m, limits, reduce, reduce)
+}
+
+/// [`analyse_timing_with`], the early stop ([`everything_found`]) chosen
+/// apart.
+pub(crate) fn analyse_timing_early(
+    m: &Machine<'_>,
+    limits: Limits,
+    reduce: bool,
+    early: bool,
 ) -> Option<TimingAnalysis> {
     if m.tasks.len() > super::MAX_TASKS {
         return None;
@@ -115,7 +127,7 @@ pub(crate) fn analyse_timing_with(
             te.quiet.fill(None);
         }
         out.clocks = out.clocks.max(te.clock_count());
-        let (states, complete) = explore_group(&te, limits, &mut out);
+        let (states, complete) = explore_group(&te, limits, early, &mut out);
         out.records.push(GroupRecord {
             tasks: (0..group.tasks.len()).filter(|&t| group.tasks[t]).collect(),
             services: m.requested(&group.acts, &group.ctls),
@@ -134,13 +146,20 @@ pub(crate) fn analyse_timing_with(
 
 /// Explores one group and adds its findings: per task, the first
 /// violation of each [`Cause`]. Returns its states and whether it
-/// finished.
-fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis) -> (u64, bool) {
+/// finished. With `early`, the exploration stops (complete) once nothing
+/// it could still find would change them ([`everything_found`]).
+fn explore_group(
+    te: &TimedEngine<'_>,
+    limits: Limits,
+    early: bool,
+    out: &mut TimingAnalysis,
+) -> (u64, bool) {
     let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
     let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
-    let e = explore(te, limits, |id, st: &TG3State| {
+    let findable = findable_long_codels(te);
+    let e = explore_until(te, limits, |id, st: &TG3State| {
         let Some(t) = st.violation.map(usize::from) else {
-            return;
+            return Found::Open;
         };
         match long_codel(te, st, t) {
             Some(cause) => {
@@ -152,6 +171,11 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
                     ids.push(id);
                 }
             }
+        }
+        if early && everything_found(&findable, &long, &other) {
+            Found::All
+        } else {
+            Found::Open
         }
     });
     let mut first = long;
@@ -177,6 +201,48 @@ fn explore_group(te: &TimedEngine<'_>, limits: Limits, out: &mut TimingAnalysis)
     out.footprint.add(&e.store);
     out.stopped = out.stopped.or(e.stopped);
     (e.store.len() as u64, e.stopped.is_none())
+}
+
+/// Per periodic task of the group explored, the long-codel causes a
+/// violation could show: its codels whose WCET is longer than its period
+/// (docs/genom3-semantics.md 15.11).
+fn findable_long_codels(te: &TimedEngine<'_>) -> BTreeMap<usize, Vec<Cause>> {
+    let m = te.m();
+    let mut out = BTreeMap::new();
+    for t in (0..m.tasks.len()).filter(|&t| te.in_group[t] && m.tasks[t].period_ns.is_some()) {
+        let perm = m.tasks[t].perm.as_ref().map(|_| Who::Perm(t as u8));
+        let acts = te.acts_of[t].iter().map(|&a| Who::Act(a as u16));
+        let causes = perm
+            .into_iter()
+            .chain(acts)
+            .flat_map(|who| {
+                let states = m.fsm(who.owner()).states.len();
+                (0..states).filter_map(move |k| longer_than_period(m, t, who, k as u8))
+            })
+            .collect();
+        out.insert(t, causes);
+    }
+    out
+}
+
+/// Whether exploring further can change no finding of the group (the early
+/// stop, docs/genom3-semantics.md 15.11): every periodic task of it has
+/// shown [`EXAMINED`] violations whose cause is read off their path (the
+/// first ones, breadth-first, which are all that is ever examined) and
+/// every long codel it has, still running at a tick. What is reported then
+/// is what the whole exploration would report; only the state count is
+/// smaller. A group with a task that never overruns is explored to the
+/// end, which is what proves it.
+fn everything_found(
+    findable: &BTreeMap<usize, Vec<Cause>>,
+    long: &BTreeMap<(usize, Cause), StateId>,
+    other: &BTreeMap<usize, Vec<StateId>>,
+) -> bool {
+    !findable.is_empty()
+        && findable.iter().all(|(&t, causes)| {
+            other.get(&t).is_some_and(|ids| ids.len() >= EXAMINED)
+                && causes.iter().all(|&c| long.contains_key(&(t, c)))
+        })
 }
 
 /// A codel of task `t` longer than its period, still running in `st`.

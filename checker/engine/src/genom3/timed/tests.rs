@@ -230,6 +230,69 @@ fn quiet_requests_left_out_change_no_overrun() {
 }
 
 #[test]
+fn the_early_stop_changes_no_finding_and_no_trace() {
+    // Generated timed components and the timing fixtures: with and
+    // without the early stop (15.11), the same tasks, causes and traces
+    // (word for word), and the early stop stores no more states; it stops
+    // some explorations early (those whose tasks all overrun).
+    let mut cases = Vec::new();
+    for seed in 0..30 {
+        let mut cfg = genom_generate::Genom3Config::small(seed);
+        cfg.timed = true;
+        cfg.tasks = cfg.tasks.min(2);
+        cfg.activities = cfg.activities.min(2);
+        cfg.states = cfg.states.min(2);
+        let g = genom_generate::generate_genom3(&cfg);
+        let wcet = g.wcet.clone().expect("timed");
+        cases.push((format!("seed {seed}"), load_genom3_wcet(&g.r#gen, &wcet)));
+    }
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/genom3/timing"
+    );
+    for name in ["f9_granularity", "f1b_chain_overrun", "f10_restart"] {
+        let text = std::fs::read_to_string(format!("{dir}/{name}.gen")).expect("fixture");
+        let wcet = std::fs::read_to_string(format!("{dir}/{name}.wcet")).expect("wcet");
+        cases.push((name.to_owned(), load_genom3_wcet(&text, &wcet)));
+    }
+    let limits = Limits {
+        max_states: 200_000,
+        ..Limits::default()
+    };
+    let mut stopped_early = 0;
+    for (name, c) in &cases {
+        let m = Machine::new(c, 1).expect("GenoM3");
+        let (Some(early), Some(whole)) = (
+            super::analysis::analyse_timing_early(&m, limits, true, true),
+            super::analysis::analyse_timing_early(&m, limits, true, false),
+        ) else {
+            continue;
+        };
+        if whole.stopped.is_some() {
+            continue;
+        }
+        assert!(early.stopped.is_none(), "{name}");
+        assert!(early.states <= whole.states, "{name}");
+        stopped_early += usize::from(early.states < whole.states);
+        let findings = |a: &TimingAnalysis| {
+            a.overruns
+                .iter()
+                .map(|o| (o.task, o.cause, format!("{:?}", o.trace)))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(findings(&early), findings(&whole), "{name}");
+        for o in &early.overruns {
+            genom_oracles::replay::genom3_timed::replay_genom3_timed(c, 1, &o.trace)
+                .unwrap_or_else(|e| panic!("{name}: {e}\n{:#?}", o.trace));
+        }
+    }
+    assert!(
+        stopped_early >= 3,
+        "the early stop applied {stopped_early} times"
+    );
+}
+
+#[test]
 fn a_request_stands_for_one_with_the_same_locks_and_a_shorter_codel() {
     // `brief` and `lengthy` write `x`, which the task's 6 ms codel reads:
     // `lengthy`'s 5 ms codel can delay it past its 10 ms period, `brief`'s
