@@ -91,8 +91,27 @@ pub fn verify_genom3(
             Some(timing) => {
                 decided_by.extend(timing.records.iter().map(|g| {
                     let who = names(&g.tasks, &g.services);
-                    Decision::new(who, Decider::Zones, g.states, g.complete)
+                    let how = if g.by_bound {
+                        Decider::Bound
+                    } else {
+                        Decider::Zones
+                    };
+                    Decision::new(who, how, g.states, g.complete)
                 }));
+                // Tasks of explored groups that the bound alone decides.
+                let explored = |t: &usize| {
+                    timing
+                        .records
+                        .iter()
+                        .any(|g| !g.by_bound && g.tasks.contains(t))
+                };
+                decided_by.extend(
+                    timing
+                        .bounded
+                        .iter()
+                        .filter(|t| explored(t))
+                        .map(|&t| Decision::new(names(&[t], &[]), Decider::Bound, 0, true)),
+                );
                 out.extend(thread_overrun::check_genom3(&m, &timing));
                 long_codels = codel_overrun::genom3_traces(&m, &timing);
                 if let Some(stop) = timing.stopped {

@@ -143,6 +143,9 @@ pub enum Method {
     Symbolic,
     /// Timed: explicit discrete states with clock zones.
     Zones,
+    /// Timed, without exploring: a static bound on each task's wake-up
+    /// shorter than its period (GenoM3, docs/genom3-semantics.md 15.12).
+    Bound,
 }
 
 impl Method {
@@ -152,6 +155,7 @@ impl Method {
             Method::Exhaustive | Method::Reduced | Method::Compositional => "explicit",
             Method::Symbolic => "symbolic",
             Method::Zones => "zones",
+            Method::Bound => "bound",
         }
     }
 }

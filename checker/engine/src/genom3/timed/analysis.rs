@@ -72,6 +72,9 @@ pub struct TimingAnalysis {
     pub stopped: Option<Stop>,
     /// Tasks that can overrun, in task order.
     pub overruns: Vec<TaskOverrun>,
+    /// Periodic tasks shown unable to overrun by the static bound of their
+    /// wake-up (docs/genom3-semantics.md 15.12), in task order.
+    pub bounded: Vec<usize>,
     /// What each group's exploration covered, in exploration order.
     pub records: Vec<GroupRecord>,
 }
@@ -87,6 +90,9 @@ pub struct GroupRecord {
     pub states: u64,
     /// Whether it finished.
     pub complete: bool,
+    /// Decided by the static bound alone (every periodic task of it is in
+    /// [`TimingAnalysis::bounded`]): not explored.
+    pub by_bound: bool,
 }
 
 /// Explores the timed model of `m`, group by group ([`super::groups`]);
@@ -127,12 +133,28 @@ pub(crate) fn analyse_timing_early(
             te.quiet.fill(None);
         }
         out.clocks = out.clocks.max(te.clock_count());
-        let (states, complete) = explore_group(&te, limits, early, &mut out);
+        // Tasks the static bound (15.12) shows cannot overrun: nothing to
+        // find in them, and a group of such tasks needs no exploration.
+        let safe = if early {
+            super::bound::cannot_overrun(&te)
+        } else {
+            vec![false; m.tasks.len()]
+        };
+        let periodic = |t: &usize| group.tasks[*t] && m.tasks[*t].period_ns.is_some();
+        out.bounded
+            .extend((0..m.tasks.len()).filter(|t| periodic(t) && safe[*t]));
+        let by_bound = (0..m.tasks.len()).filter(periodic).all(|t| safe[t]);
+        let (states, complete) = if by_bound {
+            (0, true)
+        } else {
+            explore_group(&te, limits, early, &safe, &mut out)
+        };
         out.records.push(GroupRecord {
             tasks: (0..group.tasks.len()).filter(|&t| group.tasks[t]).collect(),
             services: m.requested(&group.acts, &group.ctls),
             states,
             complete,
+            by_bound,
         });
         out.groups += 1;
         // A group at the state limit leaves the others worth exploring.
@@ -141,6 +163,7 @@ pub(crate) fn analyse_timing_early(
         }
     }
     out.overruns.sort_by_key(|o| (o.task, o.cause));
+    out.bounded.sort_unstable();
     Some(out)
 }
 
@@ -152,11 +175,13 @@ fn explore_group(
     te: &TimedEngine<'_>,
     limits: Limits,
     early: bool,
+    safe: &[bool],
     out: &mut TimingAnalysis,
 ) -> (u64, bool) {
     let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
     let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
-    let findable = findable_long_codels(te);
+    let mut findable = findable_long_codels(te);
+    findable.retain(|&t, _| !safe[t]);
     let e = explore_until(te, limits, |id, st: &TG3State| {
         let Some(t) = st.violation.map(usize::from) else {
             return Found::Open;

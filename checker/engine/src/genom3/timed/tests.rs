@@ -293,6 +293,82 @@ fn the_early_stop_changes_no_finding_and_no_trace() {
 }
 
 #[test]
+fn a_task_the_static_bound_clears_never_overruns() {
+    // Generated timed components (locks, functions, attributes, several
+    // tasks; WCETs scaled so that some tasks are loaded and some not) and
+    // the timing fixtures: every task the static bound of 15.12 clears has
+    // no overrun in the whole exploration (no early stop, no bound), and
+    // the bound clears some tasks, so the comparison is not vacuous.
+    let mut cases = Vec::new();
+    for seed in 0..40 {
+        let mut cfg = genom_generate::Genom3Config::small(seed);
+        cfg.timed = true;
+        cfg.asyncs = seed % 3 == 0;
+        cfg.tasks = cfg.tasks.clamp(2, 3);
+        cfg.activities = cfg.activities.min(3);
+        cfg.states = cfg.states.min(3);
+        cfg.attributes = cfg.attributes.max(1);
+        let g = genom_generate::generate_genom3(&cfg);
+        let wcet = g.wcet.clone().expect("timed");
+        cases.push((format!("seed {seed}"), load_genom3_wcet(&g.r#gen, &wcet)));
+    }
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/genom3/timing"
+    );
+    let mut fixtures: Vec<_> = std::fs::read_dir(dir)
+        .expect("fixtures")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "gen"))
+        .collect();
+    fixtures.sort();
+    for path in fixtures {
+        let Ok(wcet) = std::fs::read_to_string(path.with_extension("wcet")) else {
+            continue;
+        };
+        let text = std::fs::read_to_string(&path).expect("fixture");
+        cases.push((path.display().to_string(), load_genom3_wcet(&text, &wcet)));
+    }
+    let limits = Limits {
+        max_states: 60_000,
+        ..Limits::default()
+    };
+    let (mut cleared, mut compared) = (0, 0);
+    for (name, c) in &cases {
+        for instances in [1, 2] {
+            let m = Machine::new(c, instances).expect("GenoM3");
+            let Some(bounded) = analyse_timing(&m, limits) else {
+                continue;
+            };
+            let Some(whole) = super::analysis::analyse_timing_early(&m, limits, true, false) else {
+                continue;
+            };
+            if whole.stopped.is_some() {
+                continue;
+            }
+            compared += 1;
+            for &t in &bounded.bounded {
+                cleared += 1;
+                assert!(
+                    whole.overruns.iter().all(|o| o.task != t),
+                    "{name}, {instances} instance(s): task {} cleared by the bound overruns",
+                    m.tasks[t].name
+                );
+            }
+            let tasks = |a: &TimingAnalysis| {
+                a.overruns
+                    .iter()
+                    .map(|o| (o.task, o.cause))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(tasks(&bounded), tasks(&whole), "{name}");
+        }
+    }
+    assert!(compared >= 40, "{compared} complete explorations compared");
+    assert!(cleared >= 20, "the bound cleared {cleared} tasks only");
+}
+
+#[test]
 fn a_request_stands_for_one_with_the_same_locks_and_a_shorter_codel() {
     // `brief` and `lengthy` write `x`, which the task's 6 ms codel reads:
     // `lengthy`'s 5 ms codel can delay it past its 10 ms period, `brief`'s
