@@ -173,16 +173,31 @@ fn each_part_says_how_it_was_decided() {
     let sum: u64 = decided.iter().map(|d| d["states"].as_u64().unwrap()).sum();
     assert_eq!(Some(sum), file["statistics"]["states"].as_u64());
     assert!(decided[1]["states"].as_u64() > decided[2]["states"].as_u64());
-    // With WCETs: then one `zones` entry per group of coupled tasks, each
-    // naming its tasks first; the figures add up to the total.
+    // With WCETs: then one entry per group of coupled tasks, each naming
+    // its tasks first: `zones` when explored, `bound` (no state) when the
+    // static bound of each task's wake-up decides it (main's short codels
+    // in its 5 ms period; io's `async` codel has no bound); the figures
+    // add up to the total.
     let (_, file) = json(&["--wcet", DEMO_WCET, DEMO]);
     let decided = file["statistics"]["decided_by"].as_array().unwrap();
-    let zones: Vec<&Value> = decided.iter().filter(|d| d["engine"] == "zones").collect();
-    let tasks: Vec<&str> = zones
+    let timed: Vec<(&str, &str, u64)> = decided
         .iter()
-        .map(|d| d["services"][0].as_str().unwrap())
+        .filter(|d| d["engine"] == "zones" || d["engine"] == "bound")
+        .map(|d| {
+            (
+                d["services"][0].as_str().unwrap(),
+                d["engine"].as_str().unwrap(),
+                d["states"].as_u64().unwrap(),
+            )
+        })
         .collect();
-    assert_eq!(tasks, ["task main", "task io"], "{decided:#?}");
+    assert_eq!(timed.len(), 2, "{decided:#?}");
+    assert_eq!(
+        (timed[0].0, timed[0].1, timed[0].2),
+        ("task main", "bound", 0)
+    );
+    assert_eq!((timed[1].0, timed[1].1), ("task io", "zones"));
+    assert!(timed[1].2 > 0);
     let sum: u64 = decided.iter().map(|d| d["states"].as_u64().unwrap()).sum();
     assert_eq!(Some(sum), file["statistics"]["states"].as_u64());
 }
