@@ -2,6 +2,7 @@
 //! `tests/fixtures/genom3/timing/`: which task overruns, and what its
 //! trace shows.
 
+use genom_model::component::Component;
 use genom_model::trace::{Event, Trace};
 
 use super::analysis::{TimingAnalysis, analyse_timing};
@@ -195,17 +196,15 @@ fn quiet_requests_left_out_change_no_overrun() {
     // that can overrun are the same with and without the quiet-request
     // reduction, and every trace of the reduced run replays.
     let mut quiet = 0;
-    for seed in 0..40 {
-        let mut cfg = genom_generate::Genom3Config::small(seed);
-        cfg.timed = true;
+    let cases = generated_timed(0..40, |_, cfg| {
         cfg.asyncs = false;
         cfg.tasks = cfg.tasks.min(2);
         cfg.activities = cfg.activities.min(2);
         cfg.states = cfg.states.min(2);
         cfg.attributes = cfg.attributes.max(2);
-        let g = genom_generate::generate_genom3(&cfg);
-        let c = load_genom3_wcet(&g.r#gen, g.wcet.as_deref().expect("timed"));
-        let m = Machine::new(&c, 1).expect("GenoM3");
+    });
+    for (seed, c) in &cases {
+        let m = Machine::new(c, 1).expect("GenoM3");
         let limits = Limits {
             max_states: 200_000,
             ..Limits::default()
@@ -219,7 +218,7 @@ fn quiet_requests_left_out_change_no_overrun() {
         if fast.stopped.is_some() || full.stopped.is_some() {
             continue;
         }
-        assert!(fast.states <= full.states, "seed {seed}");
+        assert!(fast.states <= full.states, "{seed}");
         quiet += usize::from(fast.states < full.states);
         let tasks = |a: &TimingAnalysis| {
             a.overruns
@@ -227,16 +226,61 @@ fn quiet_requests_left_out_change_no_overrun() {
                 .map(|o| o.task)
                 .collect::<std::collections::BTreeSet<_>>()
         };
-        assert_eq!(tasks(&fast), tasks(&full), "seed {seed}");
-        for o in &fast.overruns {
-            genom_oracles::replay::genom3_timed::replay_genom3_timed(&c, 1, &o.trace)
-                .unwrap_or_else(|e| panic!("seed {seed}: {e}\n{:#?}", o.trace));
-        }
+        assert_eq!(tasks(&fast), tasks(&full), "{seed}");
+        replays(seed, c, 1, &fast);
     }
     assert!(
         quiet >= 5,
         "the reduction applied to {quiet} components only"
     );
+}
+
+/// Small generated timed components, shaped by `shape`, named by seed.
+fn generated_timed(
+    seeds: std::ops::Range<u64>,
+    shape: impl Fn(u64, &mut genom_generate::Genom3Config),
+) -> Vec<(String, Component)> {
+    seeds
+        .map(|seed| {
+            let mut cfg = genom_generate::Genom3Config::small(seed);
+            cfg.timed = true;
+            shape(seed, &mut cfg);
+            let g = genom_generate::generate_genom3(&cfg);
+            let wcet = g.wcet.clone().expect("timed");
+            (format!("seed {seed}"), load_genom3_wcet(&g.r#gen, &wcet))
+        })
+        .collect()
+}
+
+/// The timing fixtures with a WCET file, by file stem.
+fn timing_fixtures() -> Vec<(String, Component)> {
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/genom3/timing"
+    );
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .expect("fixtures")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "gen"))
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .filter_map(|path| {
+            let wcet = std::fs::read_to_string(path.with_extension("wcet")).ok()?;
+            let text = std::fs::read_to_string(&path).expect("fixture");
+            let stem = path.file_stem()?.to_string_lossy().into_owned();
+            Some((stem, load_genom3_wcet(&text, &wcet)))
+        })
+        .collect()
+}
+
+/// Every overrun trace of `a` replays in the independent oracle.
+fn replays(name: &str, c: &Component, instances: usize, a: &TimingAnalysis) {
+    for o in &a.overruns {
+        genom_oracles::replay::genom3_timed::replay_genom3_timed(c, instances, &o.trace)
+            .unwrap_or_else(|e| panic!("{name}: {e}\n{:#?}", o.trace));
+    }
 }
 
 #[test]
@@ -245,26 +289,14 @@ fn the_early_stop_changes_no_finding_and_no_trace() {
     // without the early stop (15.11), the same tasks, causes and traces
     // (word for word), and the early stop stores no more states; it stops
     // some explorations early (those whose tasks all overrun).
-    let mut cases = Vec::new();
-    for seed in 0..30 {
-        let mut cfg = genom_generate::Genom3Config::small(seed);
-        cfg.timed = true;
+    let mut cases = generated_timed(0..30, |_, cfg| {
         cfg.tasks = cfg.tasks.min(2);
         cfg.activities = cfg.activities.min(2);
         cfg.states = cfg.states.min(2);
-        let g = genom_generate::generate_genom3(&cfg);
-        let wcet = g.wcet.clone().expect("timed");
-        cases.push((format!("seed {seed}"), load_genom3_wcet(&g.r#gen, &wcet)));
-    }
-    let dir = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/fixtures/genom3/timing"
-    );
-    for name in ["f9_granularity", "f1b_chain_overrun", "f10_restart"] {
-        let text = std::fs::read_to_string(format!("{dir}/{name}.gen")).expect("fixture");
-        let wcet = std::fs::read_to_string(format!("{dir}/{name}.wcet")).expect("wcet");
-        cases.push((name.to_owned(), load_genom3_wcet(&text, &wcet)));
-    }
+    });
+    cases.extend(timing_fixtures().into_iter().filter(|(name, _)| {
+        ["f9_granularity", "f1b_chain_overrun", "f10_restart"].contains(&name.as_str())
+    }));
     let limits = Limits {
         max_states: 200_000,
         ..Limits::default()
@@ -291,10 +323,7 @@ fn the_early_stop_changes_no_finding_and_no_trace() {
                 .collect::<Vec<_>>()
         };
         assert_eq!(findings(&early), findings(&whole), "{name}");
-        for o in &early.overruns {
-            genom_oracles::replay::genom3_timed::replay_genom3_timed(c, 1, &o.trace)
-                .unwrap_or_else(|e| panic!("{name}: {e}\n{:#?}", o.trace));
-        }
+        replays(name, c, 1, &early);
     }
     assert!(
         stopped_early >= 3,
@@ -305,40 +334,18 @@ fn the_early_stop_changes_no_finding_and_no_trace() {
 #[test]
 fn a_task_the_static_bound_clears_never_overruns() {
     // Generated timed components (locks, functions, attributes, several
-    // tasks; WCETs scaled so that some tasks are loaded and some not) and
-    // the timing fixtures: every task the static bound of 15.12 clears has
-    // no overrun in the whole exploration (no early stop, no bound), and
-    // the bound clears some tasks, so the comparison is not vacuous.
-    let mut cases = Vec::new();
-    for seed in 0..40 {
-        let mut cfg = genom_generate::Genom3Config::small(seed);
-        cfg.timed = true;
+    // tasks; some with `async` codels) and the timing fixtures: every task
+    // the static bound of 15.12 clears has no overrun in the whole
+    // exploration (no early stop, no bound), and the bound clears some
+    // tasks, so the comparison is not vacuous.
+    let mut cases = generated_timed(0..40, |seed, cfg| {
         cfg.asyncs = seed % 3 == 0;
         cfg.tasks = cfg.tasks.clamp(2, 3);
         cfg.activities = cfg.activities.min(3);
         cfg.states = cfg.states.min(3);
         cfg.attributes = cfg.attributes.max(1);
-        let g = genom_generate::generate_genom3(&cfg);
-        let wcet = g.wcet.clone().expect("timed");
-        cases.push((format!("seed {seed}"), load_genom3_wcet(&g.r#gen, &wcet)));
-    }
-    let dir = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/fixtures/genom3/timing"
-    );
-    let mut fixtures: Vec<_> = std::fs::read_dir(dir)
-        .expect("fixtures")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "gen"))
-        .collect();
-    fixtures.sort();
-    for path in fixtures {
-        let Ok(wcet) = std::fs::read_to_string(path.with_extension("wcet")) else {
-            continue;
-        };
-        let text = std::fs::read_to_string(&path).expect("fixture");
-        cases.push((path.display().to_string(), load_genom3_wcet(&text, &wcet)));
-    }
+    });
+    cases.extend(timing_fixtures());
     let limits = Limits {
         max_states: 60_000,
         ..Limits::default()
@@ -372,6 +379,7 @@ fn a_task_the_static_bound_clears_never_overruns() {
                     .collect::<Vec<_>>()
             };
             assert_eq!(tasks(&bounded), tasks(&whole), "{name}");
+            replays(name, c, instances, &bounded);
         }
     }
     assert!(compared >= 40, "{compared} complete explorations compared");
