@@ -435,13 +435,13 @@ const KEYWORDS: [&str; 72] = [
 
 /// Unique Fiacre identifiers.
 #[derive(Debug, Default)]
-struct Names {
-    used: BTreeSet<String>,
+pub(crate) struct Names {
+    pub(crate) used: BTreeSet<String>,
 }
 
 impl Names {
     /// A fresh identifier for `name` with `prefix`.
-    fn take(&mut self, prefix: &str, name: &str) -> String {
+    pub(crate) fn take(&mut self, prefix: &str, name: &str) -> String {
         let mut base: String = prefix.to_owned();
         base.extend(name.chars().map(|ch| {
             if ch.is_ascii_alphanumeric() || ch == '_' {
@@ -472,12 +472,12 @@ impl Names {
 }
 
 /// Text fit for a `/* */` comment.
-fn comment(s: &str) -> String {
+pub(crate) fn comment(s: &str) -> String {
     s.replace("*/", "* /").replace(['\n', '\r'], " ")
 }
 
 /// Text fit for a Fiacre string literal.
-fn quoted(s: &str) -> String {
+pub(crate) fn quoted(s: &str) -> String {
     s.replace(['"', '\\', '\n', '\r'], "_")
 }
 

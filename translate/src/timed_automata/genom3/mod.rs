@@ -53,7 +53,7 @@
 
 mod control;
 mod fifo;
-mod read;
+pub mod read;
 mod stmts;
 mod tasks;
 
