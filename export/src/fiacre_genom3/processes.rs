@@ -420,15 +420,10 @@ impl Layout<'_> {
         }
         let (b, f) = (p.v(self, self.booted), p.v(self, self.failed));
         if st.yields.iter().any(|y| y.0.is_none()) {
-            out.push(format!("/* ether, or an exception after the boot: the activity ends */ {boot}{end}"));
-        } else {
-            out.push(format!(
-                "/* an exception after the boot: the activity ends */ on {b} <> {}; {end}",
-                t.index
-            ));
+            out.push(format!("/* ether: the activity ends */ {boot}{end}"));
         }
         out.push(format!(
-            "/* an exception at boot: the component's start fails (9.4) */ on {b} = {}; {f} := true; {end}",
+            "/* an exception: the activity ends; at boot, the component's start fails (9.4) */ if {b} = {} then {f} := true end; {end}",
             t.index
         ));
         out

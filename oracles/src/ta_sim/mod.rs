@@ -14,7 +14,7 @@
 //! An oracle (it reads the network alone): `tests/differential` compares
 //! the labels it reaches with those of the engines and of `tck-reach`.
 
-mod zone;
+pub(crate) mod zone;
 
 use std::collections::{BTreeSet, HashMap, VecDeque};
 
