@@ -176,18 +176,16 @@ fn the_model_overruns_where_the_engine_does_on_the_timing_fixtures() {
 }
 
 /// A small timed component of seed `seed` the export can model: one or
-/// two tasks, no `interrupts`/`after`/`before` (density 0), no function
-/// or attribute (their codels would share data with the tasks'), no
-/// permanent codels (they have a `stop` codel), no port.
+/// two tasks, no `interrupts`/`after`/`before` (density 0), no permanent
+/// codels (they have a `stop` codel).
 fn small_generated(seed: u64) -> Genom3Config {
     let mut cfg = Genom3Config::small(seed);
     cfg.timed = true;
     cfg.asyncs = false;
-    cfg.ports = false;
     cfg.permanent = false;
     cfg.density = 0.0;
-    cfg.functions = 0;
-    cfg.attributes = 0;
+    cfg.functions = cfg.functions.min(1);
+    cfg.attributes = cfg.attributes.min(1);
     cfg.tasks = cfg.tasks.min(2);
     cfg.activities = cfg.activities.min(3);
     cfg.states = cfg.states.min(3);
@@ -224,15 +222,14 @@ fn the_model_overruns_where_the_engine_does_on_generated_components() {
 
 #[test]
 fn scratch_reasons() {
-    let dir = tempfile::tempdir().expect("a temporary directory");
-    for seed in 0..40 {
-        let g = generate_genom3(&small_generated(seed));
-        let source = dir.path().join(format!("gen-{seed}.gen"));
-        let wcet = dir.path().join(format!("gen-{seed}.wcet"));
-        std::fs::write(&source, &g.r#gen).expect("writes the component");
-        std::fs::write(&wcet, g.wcet.expect("timed")).expect("writes the WCETs");
-        let r = common::check_genom3(&source, &[], Some(&wcet), &CheckOptions::new());
-        let inc = r.diagnostics.iter().any(|d| d.code == Code::Incomplete);
-        match fiacre(&r) { Ok(_) => eprintln!("seed {seed}: ok incomplete={inc}"), Err(e) => eprintln!("seed {seed}: {e}") }
+    for path in timing_fixtures() {
+        let (r, text) = fixture(&path);
+        let Ok(text) = text else { eprintln!("{}: refused", path.display()); continue };
+        let prog = parse(&text).expect("parses");
+        let net = Net::new(&prog).expect("net");
+        let watchers: Vec<(String, String)> = prog.processes.iter().filter(|p| p.name.starts_with("watch_")).map(|p| (p.name.clone(), "late".to_owned())).collect();
+        let t = std::time::Instant::now();
+        let reach = net.explore(&watchers, 3_000_000).expect("runs");
+        eprintln!("{}: {} states complete={} {:?} {:?} engine {:?}", path.display(), reach.states, reach.complete, t.elapsed(), reach.lingered, engine_overruns(&r));
     }
 }

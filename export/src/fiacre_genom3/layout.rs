@@ -38,9 +38,31 @@ pub(super) struct TaskL {
     pub timer: Option<String>,
     pub watch: Option<String>,
     pub manager: String,
+    /// With locks: its place in the resource FIFO, the slot its ticket is
+    /// for, the key + 1 of the codel it runs.
+    pub fifo: Option<TaskFifo>,
     /// Its slots (indices into [`Layout::slots`]), in sweep order.
     pub slots: Vec<usize>,
     pub span: genom_model::Span,
+}
+
+/// A task's variables of GenoM3's resource FIFO and locks (8.3).
+#[derive(Clone, Copy)]
+pub(super) struct TaskFifo {
+    pub pos: usize,
+    pub slot: usize,
+    pub run: usize,
+}
+
+/// The component's variables of the resource FIFO and locks.
+#[derive(Clone, Copy)]
+pub(super) struct Fifo {
+    /// Tickets queued.
+    pub len: usize,
+    /// The control task's place in the queue.
+    pub cpos: usize,
+    /// The key + 1 of the control codel running.
+    pub crun: usize,
 }
 
 /// An instance slot: a task's permanent activity, or one instance of an
@@ -64,11 +86,16 @@ pub(super) struct SlotL {
     pub states: Vec<String>,
 }
 
-/// An activity the client may request, with its request flag and slots.
+/// A service the client may request (an activity, or a function or
+/// attribute with a control codel some task's codel contends), with its
+/// request flag, its slots (none for a function or attribute) and its
+/// control codels that take part in the locks (indices into the reading's
+/// `ctl_codels`).
 pub(super) struct Request {
     pub service: ServiceId,
     pub rq: usize,
     pub slots: Vec<usize>,
+    pub timed: Vec<usize>,
 }
 
 /// Everything the printers read.
@@ -85,13 +112,11 @@ pub(super) struct Layout<'a> {
     pub requests: Vec<Request>,
     pub booted: usize,
     pub failed: usize,
+    /// With locks (some codel's exclusion list is not empty).
+    pub fifo: Option<Fifo>,
     pub client: String,
     pub control: String,
     pub names: std::cell::RefCell<Names>,
-}
-
-fn gcd(a: u64, b: u64) -> u64 {
-    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// Process states the slots' codel states must not take.
@@ -106,7 +131,7 @@ impl<'a> Layout<'a> {
         let mut l = Layout {
             input,
             r,
-            unit: unit(r),
+            unit: r.unit_ns(),
             instances,
             root,
             vars: Vec::new(),
@@ -115,12 +140,20 @@ impl<'a> Layout<'a> {
             requests: Vec::new(),
             booted: 0,
             failed: 0,
+            fifo: None,
             client,
             control,
             names: std::cell::RefCell::new(names),
         };
         l.booted = l.var("booted", "nat", initial_boot(r).to_string());
         l.failed = l.var("failed", "bool", "false".to_owned());
+        if r.keys.iter().any(|k| !k.excl.is_empty()) {
+            l.fifo = Some(Fifo {
+                len: l.var("qlen", "nat", "0".into()),
+                cpos: l.var("cpos", "nat", "0".into()),
+                crun: l.var("crun", "nat", "0".into()),
+            });
+        }
         for t in 0..r.tasks.len() {
             l.task(t);
         }
@@ -161,6 +194,11 @@ impl<'a> Layout<'a> {
             timer: period.map(|_| self.ident("timer_", &n)),
             watch: period.map(|_| self.ident("watch_", &n)),
             manager: self.ident("manager_", &n),
+            fifo: self.fifo.map(|_| TaskFifo {
+                pos: self.var(&format!("tpos_{n}"), "nat", "0".into()),
+                slot: self.var(&format!("tslot_{n}"), "nat", "0".into()),
+                run: self.var(&format!("run_{n}"), "nat", "0".into()),
+            }),
             slots: Vec::new(),
             span: task.span,
             name: n,
@@ -233,10 +271,15 @@ impl<'a> Layout<'a> {
                 by.entry(sid).or_default().push(k);
             }
         }
+        let timed = self.r.contended_control_codels();
+        for sid in timed.keys() {
+            by.entry(*sid).or_default();
+        }
         for (service, slots) in by {
             let name = self.input.component.services[service].name.name.clone();
             let rq = self.var(&format!("rq_{name}"), "bool", "false".into());
-            self.requests.push(Request { service, rq, slots });
+            let timed = timed.get(&service).cloned().unwrap_or_default();
+            self.requests.push(Request { service, rq, slots, timed });
         }
     }
 
@@ -293,19 +336,6 @@ fn initial_boot(r: &Read) -> usize {
     (0..r.tasks.len())
         .find(|&t| starts(r, t))
         .unwrap_or(r.tasks.len())
-}
-
-/// The unit of time: the greatest common divisor of the periods, delays
-/// and WCETs (1 ns at least).
-fn unit(r: &Read) -> u64 {
-    let mut u = 0;
-    for t in &r.tasks {
-        u = gcd(gcd(u, t.period_ns.unwrap_or(0)), t.delay_ns);
-    }
-    for s in r.slots.iter().flat_map(|s| s.fsm.states.iter()) {
-        u = gcd(u, s.wcet_ns);
-    }
-    u.max(1)
 }
 
 /// A process state `c_NAME` not in `used`.

@@ -17,6 +17,7 @@
 //! machines, exclusion lists), the same reading the `uppaal` and
 //! `tchecker` exports print.
 
+mod control;
 mod layout;
 mod processes;
 
@@ -92,12 +93,6 @@ fn instance_bound(input: &ExportInput<'_>) -> usize {
 /// meaning. Each names the exports that model it.
 fn refuse(c: &Component, r: &Read) -> Result<(), ExportError> {
     let other = "the uppaal and tchecker exports model it";
-    if let Some(k) = r.keys.iter().position(|k| !k.excl.is_empty()) {
-        return Err(unsupported(format!(
-            "{} shares data with a codel of another thread (a GenoM3 lock and its resource FIFO), which the Fiacre model of GenoM3 does not model yet; {other}",
-            key_name(c, r, k)
-        )));
-    }
     for s in &r.slots {
         let owner = s
             .service
@@ -126,25 +121,6 @@ fn refuse(c: &Component, r: &Read) -> Result<(), ExportError> {
         )));
     }
     Ok(())
-}
-
-/// A key's codel, as a user reads it.
-fn key_name(c: &Component, r: &Read, k: usize) -> String {
-    match r.keys[k].owner {
-        read::KeyOwner::Slot(i, s) => {
-            let slot = &r.slots[i];
-            let owner = slot.service.map_or_else(
-                || format!("task {}", r.tasks[slot.task].name),
-                |x| c.services[x].name.name.clone(),
-            );
-            format!("the codel of {owner} in state {}", slot.fsm.states[s].name)
-        }
-        read::KeyOwner::Ctl(s, i) => format!(
-            "control codel {} of service {}",
-            r.ctl_codels.get(&s).and_then(|v| v.get(i)).map_or("?", |k| k.name.as_str()),
-            c.services[s].name.name
-        ),
-    }
 }
 
 fn header(l: &Layout<'_>, out: &mut String) {

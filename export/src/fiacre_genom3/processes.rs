@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use genom_translate::timed_automata::genom3::read::State;
 
 use super::layout::{Layout, SlotL, TaskL};
+
 use crate::fiacre::comment;
 use crate::pnml::location;
 
@@ -25,7 +26,7 @@ pub(super) struct Proc {
 }
 
 impl Proc {
-    fn new(name: &str, about: String, states: &[&str]) -> Self {
+    pub(super) fn new(name: &str, about: String, states: &[&str]) -> Self {
         Proc {
             name: name.to_owned(),
             about,
@@ -36,13 +37,13 @@ impl Proc {
     }
 
     /// The name of shared variable `v`, now a parameter of the process.
-    fn v(&mut self, l: &Layout<'_>, v: usize) -> String {
+    pub(super) fn v(&mut self, l: &Layout<'_>, v: usize) -> String {
         self.params.insert(v);
         l.vars[v].name.clone()
     }
 
     /// A `from` clause: one alternative, or a `select` of several.
-    fn from(&mut self, state: &str, note: &str, alts: &[String]) {
+    pub(super) fn from(&mut self, state: &str, note: &str, alts: &[String]) {
         if alts.is_empty() {
             return;
         }
@@ -109,7 +110,7 @@ impl Layout<'_> {
         out
     }
 
-    fn service_name(&self, r: &super::layout::Request) -> &str {
+    pub(super) fn service_name(&self, r: &super::layout::Request) -> &str {
         &self.input.component.services[r.service].name.name
     }
 
@@ -130,38 +131,13 @@ impl Layout<'_> {
                 .iter()
                 .map(|&s| format!("{} = 0", p.v(self, self.slots[s].st)))
                 .collect();
+            let free = if free.is_empty() { String::new() } else { format!(" and ({})", free.join(" or ")) };
             alts.push(format!(
-                "/* request {} */ on not {failed} and {booted} = {n} and not {rq} and ({}); {rq} := true; loop",
+                "/* request {} */ on not {failed} and {booted} = {n} and not {rq}{free}; {rq} := true; loop",
                 self.service_name(r),
-                free.join(" or ")
             ));
         }
         p.from("ready", "", &alts);
-        p
-    }
-
-    fn control_process(&self) -> Proc {
-        let mut p = Proc::new(
-            &self.control,
-            "The control task: it accepts each request at once into a free slot of its activity (4). Its codels (validate, functions, attributes) share no lock with a task's codel, so they take no time a task sees (15.5).".to_owned(),
-            &["serve"],
-        );
-        let mut alts = Vec::new();
-        for r in &self.requests {
-            let rq = p.v(self, r.rq);
-            let mut take = String::new();
-            for (i, &s) in r.slots.iter().enumerate() {
-                let st = p.v(self, self.slots[s].st);
-                let kw = if i == 0 { "if" } else { " elsif" };
-                let _ = write!(take, "{kw} {st} = 0 then {st} := 2");
-            }
-            take.push_str(" end");
-            alts.push(format!(
-                "/* accept {} */ wait [0,0]; on {rq}; {rq} := false; {take}; loop",
-                self.service_name(r)
-            ));
-        }
-        p.from("serve", "", &alts);
         p
     }
 
@@ -255,8 +231,7 @@ impl Layout<'_> {
         );
         let failed = p.v(self, self.failed);
         let booted = p.v(self, self.booted);
-        let (work, cont, running, turn) =
-            (p.v(self, t.work), p.v(self, t.cont), p.v(self, t.running), p.v(self, t.turn));
+        let (work, cont, running) = (p.v(self, t.work), p.v(self, t.cont), p.v(self, t.running));
         let wake = self.pre_pass(&mut p, t, true);
         let wake = if wake.is_empty() { String::new() } else { format!("{wake}; ") };
         let spawned = format!("not {failed} and {booted} >= {}", t.index);
@@ -290,11 +265,7 @@ impl Layout<'_> {
         let dues: Vec<String> = t.slots.iter().map(|&s| p.v(self, self.slots[s].due)).collect();
         let mut alts = Vec::new();
         for (&s, due) in t.slots.iter().zip(&dues) {
-            let sl = &self.slots[s];
-            alts.push(format!(
-                "/* {} runs a codel */ wait [0,0]; on not {failed} and not {running} and {due}; {due} := false; {running} := true; {turn} := {}; to sweep",
-                sl.what, sl.turn
-            ));
+            self.begins(&mut p, t, s, due, &mut alts);
         }
         let none_due = if dues.is_empty() {
             String::new()
@@ -311,6 +282,40 @@ impl Layout<'_> {
         ));
         p.from("sweep", "", &alts);
         p
+    }
+
+    /// How the manager makes slot `s` (due flag `due`) run its codel:
+    /// at once, or per codel state (with locks) when its locks are free and
+    /// the resource FIFO lets it, or by taking a ticket (8.3, 15.5).
+    fn begins(&self, p: &mut Proc, t: &TaskL, s: usize, due: &str, alts: &mut Vec<String>) {
+        let sl = &self.slots[s];
+        let (failed, running, turn) = (p.v(self, self.failed), p.v(self, t.running), p.v(self, t.turn));
+        let ready = format!("not {failed} and not {running} and {due}");
+        let go = format!("{due} := false; {running} := true; {turn} := {}", sl.turn);
+        let Some(tf) = t.fifo else {
+            alts.push(format!("/* {} runs a codel */ wait [0,0]; on {ready}; {go}; to sweep", sl.what));
+            return;
+        };
+        let th = super::control::Thread::Task(t.index);
+        let (q, run) = (p.v(self, sl.q), p.v(self, tf.run));
+        for (k, st) in self.r.slots[sl.read].fsm.states.iter().enumerate() {
+            let at = format!("{ready} and {q} = {k}");
+            let begin = self.may_begin(p, th, Some(sl.turn), st.key).unwrap_or_else(|| "true".into());
+            let leave = self.leave_queue(p, th);
+            alts.push(format!(
+                "/* {} runs its codel of state {} */ wait [0,0]; on {at} and {begin}; {leave}{go}; {run} := {}; to sweep",
+                sl.what,
+                st.name,
+                st.key + 1
+            ));
+            if let Some(w) = self.must_wait(p, th, st.key) {
+                let take = self.take_ticket(p, th, Some(sl.turn));
+                alts.push(format!(
+                    "/* {} takes a ticket for state {} */ wait [0,0]; on {at} and {w}; {take}; to sweep",
+                    sl.what, st.name
+                ));
+            }
+        }
     }
 
     fn slot_process(&self, s: &SlotL) -> Proc {
@@ -350,14 +355,14 @@ impl Layout<'_> {
                 .enumerate()
                 .map(|(i, e)| if i == 0 { format!("wait [0,{w}]; {e}") } else { e })
                 .collect();
-            self.codel_from(&mut p, &s.states[k], &note, &ends);
+            self.select_after_wait(&mut p, &s.states[k], &note, &ends);
         }
         p
     }
 
     /// A codel state: the `wait` of its duration, then a `select` of its
     /// outcomes (`ends[0]` carries the `wait`).
-    fn codel_from(&self, p: &mut Proc, state: &str, note: &str, ends: &[String]) {
+    pub(super) fn select_after_wait(&self, p: &mut Proc, state: &str, note: &str, ends: &[String]) {
         if ends.len() == 1 {
             p.from(state, note, ends);
             return;
@@ -391,6 +396,10 @@ impl Layout<'_> {
     fn outcomes(&self, p: &mut Proc, s: &SlotL, st: &State) -> Vec<String> {
         let t = &self.tasks[s.task];
         let (running, cont) = (p.v(self, t.running), p.v(self, t.cont));
+        let running = match t.fifo {
+            Some(f) => format!("{} := 0; {running}", p.v(self, f.run)),
+            None => running,
+        };
         let (stv, q, pz) = (p.v(self, s.st), p.v(self, s.q), p.v(self, s.pz));
         let perm = self.r.slots[s.read].service.is_none();
         let boot = if perm {

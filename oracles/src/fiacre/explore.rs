@@ -47,8 +47,10 @@ impl Scope for Inst {
 pub struct Net {
     insts: Vec<Inst>,
     init_vars: Vec<i64>,
-    /// Per instance, the largest constant its clock is compared with.
-    max: Vec<i64>,
+    /// Per instance and state, the largest constant its clock is compared
+    /// with there (its clock is reset when it leaves: elsewhere it is not
+    /// read).
+    max: Vec<Vec<i64>>,
 }
 
 /// What [`Net::explore`] found.
@@ -278,7 +280,8 @@ impl Net {
         if z.is_empty() {
             return Ok(None);
         }
-        z.extrapolate(&self.max);
+        let max: Vec<i64> = key.locs.iter().enumerate().map(|(p, &s)| self.max[p][s]).collect();
+        z.extrapolate(&max);
         Ok(Some(z))
     }
 
@@ -294,9 +297,9 @@ fn urgent(i: Interval) -> bool {
     i.lo == 0 && !i.lo_open && i.hi == Some(0)
 }
 
-/// The largest constant of the `wait`s of a process (its clock is
-/// compared with nothing larger).
-fn max_constant(i: &Inst) -> i64 {
+/// Per state, the largest constant of the `wait`s of its `from` clause
+/// (the process's clock is compared with nothing larger there).
+fn max_constant(i: &Inst) -> Vec<i64> {
     fn walk(s: &[Stmt], m: &mut i64) {
         for st in s {
             match st {
@@ -311,9 +314,14 @@ fn max_constant(i: &Inst) -> i64 {
             }
         }
     }
-    let mut m = 0;
-    for body in i.froms.iter().flatten() {
-        walk(body, &mut m);
-    }
-    m
+    i.froms
+        .iter()
+        .map(|body| {
+            let mut m = 0;
+            if let Some(b) = body {
+                walk(b, &mut m);
+            }
+            m
+        })
+        .collect()
 }

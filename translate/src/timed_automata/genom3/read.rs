@@ -218,6 +218,47 @@ pub struct Read {
     pub slot_of: BTreeMap<ServiceId, Vec<usize>>,
 }
 
+impl Read {
+    /// Per service, its control codels (indices into its `ctl_codels`)
+    /// with a lock some task's codel contends, even those that take no
+    /// time (waiting, their ticket delays those behind it, 15.5); the
+    /// others are instantaneous and take no ticket.
+    pub fn contended_control_codels(&self) -> BTreeMap<ServiceId, Vec<usize>> {
+        let mut out = BTreeMap::new();
+        for (&sid, list) in &self.ctl_codels {
+            let kept: Vec<usize> = (0..list.len())
+                .filter(|&i| {
+                    let k = list[i].key;
+                    !self.keys[k].excl.is_empty() || self.keys.iter().any(|j| j.excl.contains(&k))
+                })
+                .collect();
+            if !kept.is_empty() {
+                out.insert(sid, kept);
+            }
+        }
+        out
+    }
+
+    /// The unit of time, in nanoseconds: the greatest common divisor of
+    /// the periods, delays and WCETs (task and control codels), 1 at least.
+    pub fn unit_ns(&self) -> u64 {
+        fn gcd(a: u64, b: u64) -> u64 {
+            if b == 0 { a } else { gcd(b, a % b) }
+        }
+        let mut unit = 0;
+        for t in &self.tasks {
+            unit = gcd(gcd(unit, t.period_ns.unwrap_or(0)), t.delay_ns);
+        }
+        for s in self.slots.iter().flat_map(|s| s.fsm.states.iter()) {
+            unit = gcd(unit, s.wcet_ns);
+        }
+        for k in self.ctl_codels.values().flatten() {
+            unit = gcd(unit, k.wcet_ns);
+        }
+        unit.max(1)
+    }
+}
+
 /// Reads a GenoM3 component.
 pub fn read(c: &Component, g: &Genom3Info) -> Read {
     let mut r = Read::default();
