@@ -131,7 +131,8 @@ impl Layout<'_> {
         );
         let mut serve = Vec::new();
         for r in &self.requests {
-            let rq = p.v(self, r.rq);
+            let Some(rq) = r.rq else { continue };
+            let rq = p.v(self, rq);
             let what = self.service_name(r).to_owned();
             let next = match r.timed.first() {
                 Some(&j) => format!("to {}", self.ctl_states(r, j).0),
@@ -191,7 +192,7 @@ impl Layout<'_> {
 
     /// An activity's request accepted into its first free slot, followed by
     /// `; ` (nothing for a function or attribute).
-    fn accept(&self, p: &mut Proc, r: &Request) -> String {
+    pub(super) fn accept(&self, p: &mut Proc, r: &Request) -> String {
         if r.slots.is_empty() {
             return String::new();
         }

@@ -34,7 +34,6 @@ pub(super) struct TaskL {
     pub work: usize,
     pub cont: usize,
     pub running: usize,
-    pub turn: usize,
     pub timer: Option<String>,
     pub watch: Option<String>,
     pub manager: String,
@@ -72,7 +71,7 @@ pub(super) struct SlotL {
     pub read: usize,
     /// Its task (index into [`Layout::tasks`]).
     pub task: usize,
-    /// Its number in its task (the manager's `turn` value, from 1).
+    /// Its number in its task's sweep (from 1; what a ticket is for).
     pub turn: usize,
     /// Its process.
     pub process: String,
@@ -93,7 +92,9 @@ pub(super) struct SlotL {
 /// `ctl_codels`).
 pub(super) struct Request {
     pub service: ServiceId,
-    pub rq: usize,
+    /// Its request flag, when requests go through the control task (some
+    /// request of the component has contended control codels).
+    pub rq: Option<usize>,
     pub slots: Vec<usize>,
     pub timed: Vec<usize>,
 }
@@ -190,7 +191,6 @@ impl<'a> Layout<'a> {
             work: self.var(&format!("work_{n}"), "bool", "false".into()),
             cont: self.var(&format!("cont_{n}"), "bool", "false".into()),
             running: self.var(&format!("running_{n}"), "bool", "false".into()),
-            turn: self.var(&format!("turn_{n}"), "nat", "0".into()),
             timer: period.map(|_| self.ident("timer_", &n)),
             watch: period.map(|_| self.ident("watch_", &n)),
             manager: self.ident("manager_", &n),
@@ -275,9 +275,10 @@ impl<'a> Layout<'a> {
         for sid in timed.keys() {
             by.entry(*sid).or_default();
         }
+        let via_control = !timed.is_empty();
         for (service, slots) in by {
             let name = self.input.component.services[service].name.name.clone();
-            let rq = self.var(&format!("rq_{name}"), "bool", "false".into());
+            let rq = via_control.then(|| self.var(&format!("rq_{name}"), "bool", "false".into()));
             let timed = timed.get(&service).cloned().unwrap_or_default();
             self.requests.push(Request { service, rq, slots, timed });
         }

@@ -93,6 +93,8 @@ impl Layout<'_> {
         let mut out = Vec::new();
         if !self.requests.is_empty() {
             out.push(self.client_process());
+        }
+        if self.requests.iter().any(|r| r.rq.is_some()) {
             out.push(self.control_process());
         }
         for t in &self.tasks {
@@ -117,7 +119,7 @@ impl Layout<'_> {
     fn client_process(&self) -> Proc {
         let mut p = Proc::new(
             &self.client,
-            "The clients: each activity may be requested at any time once the boot ended (10.1), while one of its instance slots is free (--max-instances).".to_owned(),
+            "The clients: each activity may be requested at any time once the boot ended (10.1), while one of its instance slots is free (--max-instances); without contended control codels in the component, the control task takes no time a task sees and the request is accepted at once.".to_owned(),
             &["ready"],
         );
         let booted = p.v(self, self.booted);
@@ -125,17 +127,21 @@ impl Layout<'_> {
         let n = self.tasks.len();
         let mut alts = Vec::new();
         for r in &self.requests {
-            let rq = p.v(self, r.rq);
             let free: Vec<String> = r
                 .slots
                 .iter()
                 .map(|&s| format!("{} = 0", p.v(self, self.slots[s].st)))
                 .collect();
             let free = if free.is_empty() { String::new() } else { format!(" and ({})", free.join(" or ")) };
-            alts.push(format!(
-                "/* request {} */ on not {failed} and {booted} = {n} and not {rq}{free}; {rq} := true; loop",
-                self.service_name(r),
-            ));
+            let what = self.service_name(r);
+            let ready = format!("on not {failed} and {booted} = {n}{free}");
+            alts.push(match r.rq {
+                Some(rq) => {
+                    let rq = p.v(self, rq);
+                    format!("/* request {what} */ {ready} and not {rq}; {rq} := true; loop")
+                }
+                None => format!("/* request {what}, accepted at once */ {ready}; {}loop", self.accept(&mut p, r)),
+            });
         }
         p.from("ready", "", &alts);
         p
@@ -219,7 +225,7 @@ impl Layout<'_> {
         let mut p = Proc::new(
             &t.manager,
             format!(
-                "Task {}{}: its manager. {}; then it sweeps its slots (1.4): every due slot runs one codel, in any order (15.2), one at a time; after a sweep with an unpaused transition it sweeps again at once.",
+                "Task {}{}: its manager. {}; then it sweeps its slots (1.4): every due slot runs one codel (its process begins it), in any order (15.2), one at a time; after a sweep with an unpaused transition it sweeps again at once.",
                 t.name,
                 at(self, t.span),
                 match t.period {
@@ -264,9 +270,6 @@ impl Layout<'_> {
         p.from("sleep", "", &sleep);
         let dues: Vec<String> = t.slots.iter().map(|&s| p.v(self, self.slots[s].due)).collect();
         let mut alts = Vec::new();
-        for (&s, due) in t.slots.iter().zip(&dues) {
-            self.begins(&mut p, t, s, due, &mut alts);
-        }
         let none_due = if dues.is_empty() {
             String::new()
         } else {
@@ -284,38 +287,37 @@ impl Layout<'_> {
         p
     }
 
-    /// How the manager makes slot `s` (due flag `due`) run its codel:
-    /// at once, or per codel state (with locks) when its locks are free and
-    /// the resource FIFO lets it, or by taking a ticket (8.3, 15.5).
-    fn begins(&self, p: &mut Proc, t: &TaskL, s: usize, due: &str, alts: &mut Vec<String>) {
-        let sl = &self.slots[s];
-        let (failed, running, turn) = (p.v(self, self.failed), p.v(self, t.running), p.v(self, t.turn));
+    /// How slot `s` begins the codel of its state when it is due and its
+    /// task runs no codel: at once, or (with locks) when its locks are free
+    /// and the resource FIFO lets it, after taking a ticket if they are
+    /// not (8.3, 15.5). Its codel states are named `states`.
+    fn begins(&self, p: &mut Proc, t: &TaskL, sl: &SlotL) -> Vec<String> {
+        let (failed, running) = (p.v(self, self.failed), p.v(self, t.running));
+        let (due, q) = (p.v(self, sl.due), p.v(self, sl.q));
         let ready = format!("not {failed} and not {running} and {due}");
-        let go = format!("{due} := false; {running} := true; {turn} := {}", sl.turn);
-        let Some(tf) = t.fifo else {
-            alts.push(format!("/* {} runs a codel */ wait [0,0]; on {ready}; {go}; to sweep", sl.what));
-            return;
-        };
+        let go = format!("{due} := false; {running} := true");
         let th = super::control::Thread::Task(t.index);
-        let (q, run) = (p.v(self, sl.q), p.v(self, tf.run));
+        let mut alts = Vec::new();
         for (k, st) in self.r.slots[sl.read].fsm.states.iter().enumerate() {
             let at = format!("{ready} and {q} = {k}");
+            let to = &sl.states[k];
+            let Some(tf) = t.fifo else {
+                alts.push(format!("wait [0,0]; on {at}; {go}; to {to}"));
+                continue;
+            };
+            let run = p.v(self, tf.run);
             let begin = self.may_begin(p, th, Some(sl.turn), st.key).unwrap_or_else(|| "true".into());
             let leave = self.leave_queue(p, th);
             alts.push(format!(
-                "/* {} runs its codel of state {} */ wait [0,0]; on {at} and {begin}; {leave}{go}; {run} := {}; to sweep",
-                sl.what,
-                st.name,
+                "wait [0,0]; on {at} and {begin}; {leave}{go}; {run} := {}; to {to}",
                 st.key + 1
             ));
             if let Some(w) = self.must_wait(p, th, st.key) {
                 let take = self.take_ticket(p, th, Some(sl.turn));
-                alts.push(format!(
-                    "/* {} takes a ticket for state {} */ wait [0,0]; on {at} and {w}; {take}; to sweep",
-                    sl.what, st.name
-                ));
+                alts.push(format!("/* a ticket for state {} */ wait [0,0]; on {at} and {w}; {take}; loop", st.name));
             }
         }
+        alts
     }
 
     fn slot_process(&self, s: &SlotL) -> Proc {
@@ -328,14 +330,8 @@ impl Layout<'_> {
             format!("Task {}: {} (slot {} of its sweep).", t.name, s.what, s.turn),
             &states,
         );
-        let (turn, q) = (p.v(self, t.turn), p.v(self, s.q));
-        let begin: Vec<String> = s
-            .states
-            .iter()
-            .enumerate()
-            .map(|(k, name)| format!("wait [0,0]; on {turn} = {} and {q} = {k}; {turn} := 0; to {name}", s.turn))
-            .collect();
-        p.from("idle", "", &begin);
+        let begin = self.begins(&mut p, t, s);
+        p.from("idle", "due, it begins its codel", &begin);
         for (k, st) in rs.fsm.states.iter().enumerate() {
             let w = self.units(st.wcet_ns);
             let note = format!(
