@@ -44,7 +44,11 @@ fn fiacre(r: &common::CheckResult) -> Result<String, ExportError> {
     let verification = Verification {
         verified: !r.diagnostics.iter().any(|d| d.severity == Severity::Error),
         tool_version: "0.0.0-test".to_owned(),
-        assumptions: r.statistics.as_ref().map(|s| s.assumptions.clone()).unwrap_or_default(),
+        assumptions: r
+            .statistics
+            .as_ref()
+            .map(|s| s.assumptions.clone())
+            .unwrap_or_default(),
         ..Verification::default()
     };
     let input = ExportInput {
@@ -107,10 +111,24 @@ fn properties_name_own_states(prog: &Program, what: &str) {
             }
             let k: usize = w[2].parse().expect("an instance number");
             let inst = &root.par[k - 1];
-            let proc_ = prog.processes.iter().find(|q| q.name == inst.name).expect("a process");
-            assert!(proc_.states.iter().any(|s| s == w[5]), "{what}: {} names {} {}", p.name, inst.name, w[5]);
+            let proc_ = prog
+                .processes
+                .iter()
+                .find(|q| q.name == inst.name)
+                .expect("a process");
+            assert!(
+                proc_.states.iter().any(|s| s == w[5]),
+                "{what}: {} names {} {}",
+                p.name,
+                inst.name,
+                w[5]
+            );
         }
-        assert!(prog.asserts.contains(&p.name), "{what}: {} is not asserted", p.name);
+        assert!(
+            prog.asserts.contains(&p.name),
+            "{what}: {} is not asserted",
+            p.name
+        );
     }
 }
 
@@ -151,7 +169,11 @@ fn every_export_parses_and_refusals_say_why() {
 #[test]
 fn an_untimed_component_is_refused_with_the_remedy() {
     let path = Path::new("../tests/fixtures/genom3/semantics/f1b_chain_overrun.gen");
-    let path = if path.exists() { path.to_owned() } else { Path::new(TIMING).join("f1b_chain_overrun.gen") };
+    let path = if path.exists() {
+        path.to_owned()
+    } else {
+        Path::new(TIMING).join("f1b_chain_overrun.gen")
+    };
     let r = common::check_genom3(&path, &[], None, &CheckOptions::new());
     let e = fiacre(&r).expect_err("no WCET: refused");
     assert!(e.to_string().contains("--wcet"), "{e}");
@@ -167,15 +189,26 @@ fn the_model_overruns_where_the_engine_does_on_the_timing_fixtures() {
         let prog = parse(&text).expect("parses");
         let (got, complete) = model_overruns(&prog);
         if !complete {
-            println!("{}: skipped, more than {MAX_STATES} symbolic states", path.display());
+            println!(
+                "{}: skipped, more than {MAX_STATES} symbolic states",
+                path.display()
+            );
             continue;
         }
         let want = engine_overruns(&r);
-        assert_eq!(got, want, "{}: the model's overrunning tasks, then the engine's", path.display());
+        assert_eq!(
+            got,
+            want,
+            "{}: the model's overrunning tasks, then the engine's",
+            path.display()
+        );
         compared += 1;
         overrunning += usize::from(!want.is_empty());
     }
-    assert!(compared >= 10 && overrunning >= 5, "{compared} compared, {overrunning} overrunning");
+    assert!(
+        compared >= 10 && overrunning >= 5,
+        "{compared} compared, {overrunning} overrunning"
+    );
 }
 
 /// A small timed component of seed `seed` the export can model: one or
@@ -224,9 +257,16 @@ fn the_model_overruns_where_the_engine_does_on_generated_components() {
             println!("seed {seed}: skipped, more than {MAX_STATES} symbolic states");
             continue;
         }
-        assert_eq!(got, engine_overruns(&r), "seed {seed}: the model's overrunning tasks, then the engine's");
+        assert_eq!(
+            got,
+            engine_overruns(&r),
+            "seed {seed}: the model's overrunning tasks, then the engine's"
+        );
         compared += 1;
         overrunning += usize::from(!got.is_empty());
     }
-    assert!(compared >= 6 && overrunning >= 2, "{compared} compared, {overrunning} overrunning");
+    assert!(
+        compared >= 6 && overrunning >= 2,
+        "{compared} compared, {overrunning} overrunning"
+    );
 }

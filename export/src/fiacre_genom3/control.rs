@@ -41,7 +41,13 @@ impl Layout<'_> {
 
     /// A codel of thread `th` (for the slot of turn `turn`) may begin: its
     /// locks are free, and it holds the head of the queue or no one waits.
-    pub(super) fn may_begin(&self, p: &mut Proc, th: Thread, turn: Option<usize>, k: usize) -> Option<String> {
+    pub(super) fn may_begin(
+        &self,
+        p: &mut Proc,
+        th: Thread,
+        turn: Option<usize>,
+        k: usize,
+    ) -> Option<String> {
         let (fifo, pos) = (self.fifo?, self.pos(th)?);
         let (len, pos) = (p.v(self, fifo.len), p.v(self, pos));
         let mine = match (th, turn) {
@@ -51,8 +57,12 @@ impl Layout<'_> {
             }
             _ => String::new(),
         };
-        let free = self.lock_free(p, k).map_or_else(String::new, |f| format!("{f} and "));
-        Some(format!("{free}(({pos} = 0 and {len} = 0) or ({pos} = 1{mine}))"))
+        let free = self
+            .lock_free(p, k)
+            .map_or_else(String::new, |f| format!("{f} and "));
+        Some(format!(
+            "{free}(({pos} = 0 and {len} = 0) or ({pos} = 1{mine}))"
+        ))
     }
 
     /// A codel of thread `th` must take a ticket: it has none, and someone
@@ -60,7 +70,9 @@ impl Layout<'_> {
     pub(super) fn must_wait(&self, p: &mut Proc, th: Thread, k: usize) -> Option<String> {
         let (fifo, pos) = (self.fifo?, self.pos(th)?);
         let (len, pos) = (p.v(self, fifo.len), p.v(self, pos));
-        let free = self.lock_free(p, k).map_or_else(String::new, |f| format!(" and {f}"));
+        let free = self
+            .lock_free(p, k)
+            .map_or_else(String::new, |f| format!(" and {f}"));
         Some(format!("{pos} = 0 and not ({len} = 0{free})"))
     }
 
@@ -138,7 +150,9 @@ impl Layout<'_> {
                 Some(&j) => format!("to {}", self.ctl_states(r, j).0),
                 None => format!("{}loop", self.accept(&mut p, r)),
             };
-            serve.push(format!("/* take {what} */ wait [0,0]; on {rq}; {rq} := false; {next}"));
+            serve.push(format!(
+                "/* take {what} */ wait [0,0]; on {rq}; {rq} := false; {next}"
+            ));
         }
         p.from("serve", "", &serve);
         for r in &self.requests {
@@ -155,37 +169,64 @@ impl Layout<'_> {
         let base = format!("{}_{name}", self.service_name(r));
         let clean: String = base
             .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
             .collect();
         (format!("wait_{clean}"), format!("run_{clean}"))
     }
 
-    fn ctl_codel(&self, r: &Request, j: usize) -> Option<&genom_translate::timed_automata::genom3::read::CtlCodel> {
+    fn ctl_codel(
+        &self,
+        r: &Request,
+        j: usize,
+    ) -> Option<&genom_translate::timed_automata::genom3::read::CtlCodel> {
         self.r.ctl_codels.get(&r.service)?.get(j)
     }
 
     fn control_codel(&self, p: &mut Proc, r: &Request, n: usize, j: usize) {
-        let Some(codel) = self.ctl_codel(r, j) else { return };
+        let Some(codel) = self.ctl_codel(r, j) else {
+            return;
+        };
         let (wait, run) = self.ctl_states(r, j);
         let k = codel.key;
         let Some(fifo) = self.fifo else { return };
         let crun = p.v(self, fifo.crun);
-        let begin = self.may_begin(p, Thread::Control, None, k).unwrap_or_else(|| "true".into());
+        let begin = self
+            .may_begin(p, Thread::Control, None, k)
+            .unwrap_or_else(|| "true".into());
         let leave = self.leave_queue(p, Thread::Control);
-        let mut alts = vec![format!("/* its locks are free */ wait [0,0]; on {begin}; {leave}{crun} := {}; to {run}", k + 1)];
+        let mut alts = vec![format!(
+            "/* its locks are free */ wait [0,0]; on {begin}; {leave}{crun} := {}; to {run}",
+            k + 1
+        )];
         if let Some(w) = self.must_wait(p, Thread::Control, k) {
             let take = self.take_ticket(p, Thread::Control, None);
-            alts.push(format!("/* it takes a ticket */ wait [0,0]; on {w}; {take}; loop"));
+            alts.push(format!(
+                "/* it takes a ticket */ wait [0,0]; on {w}; {take}; loop"
+            ));
         }
-        p.from(&wait, &format!("{} of {}", codel.name, self.service_name(r)), &alts);
+        p.from(
+            &wait,
+            &format!("{} of {}", codel.name, self.service_name(r)),
+            &alts,
+        );
         let done = match r.timed.get(n + 1) {
             Some(&next) => format!("to {}", self.ctl_states(r, next).0),
             None => format!("{}to serve", self.accept(p, r)),
         };
         let w = self.units(codel.wcet_ns);
-        let mut ends = vec![format!("wait [0,{w}]; /* it succeeds */ {crun} := 0; {done}")];
+        let mut ends = vec![format!(
+            "wait [0,{w}]; /* it succeeds */ {crun} := 0; {done}"
+        )];
         if !codel.copy {
-            ends.push(format!("/* an exception ends the request */ {crun} := 0; to serve"));
+            ends.push(format!(
+                "/* an exception ends the request */ {crun} := 0; to serve"
+            ));
         }
         self.select_after_wait(p, &run, &format!("{} runs", codel.name), &ends);
     }

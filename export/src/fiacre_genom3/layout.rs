@@ -99,6 +99,10 @@ pub(super) struct Request {
     pub timed: Vec<usize>,
 }
 
+/// An activity codel's property name, its label, and the (process,
+/// state) pairs where it runs.
+pub(super) type CodelStates = (String, String, Vec<(String, String)>);
+
 /// Everything the printers read.
 pub(super) struct Layout<'a> {
     pub input: &'a ExportInput<'a>,
@@ -184,7 +188,7 @@ impl<'a> Layout<'a> {
             .period_ns
             .map(|p| (self.units(p), self.units(task.delay_ns)));
         let tl = TaskL {
-            ident: self.ident("", &n).to_owned(),
+            ident: self.ident("", &n),
             index: t,
             period,
             tick: self.var(&format!("tick_{n}"), "bool", "false".into()),
@@ -280,7 +284,12 @@ impl<'a> Layout<'a> {
             let name = self.input.component.services[service].name.name.clone();
             let rq = via_control.then(|| self.var(&format!("rq_{name}"), "bool", "false".into()));
             let timed = timed.get(&service).cloned().unwrap_or_default();
-            self.requests.push(Request { service, rq, slots, timed });
+            self.requests.push(Request {
+                service,
+                rq,
+                slots,
+                timed,
+            });
         }
     }
 
@@ -295,12 +304,10 @@ impl<'a> Layout<'a> {
 
     /// Per activity codel: its property name, its label, and the
     /// (process, state) pairs where it runs.
-    pub fn codel_states(&self) -> Vec<(String, String, Vec<(String, String)>)> {
+    pub fn codel_states(&self) -> Vec<CodelStates> {
         let c = self.input.component;
-        let mut out: std::collections::BTreeMap<
-            genom_model::component::CodelId,
-            (String, String, Vec<(String, String)>),
-        > = Default::default();
+        let mut out: std::collections::BTreeMap<genom_model::component::CodelId, CodelStates> =
+            Default::default();
         for s in &self.slots {
             let rs = &self.r.slots[s.read];
             let Some(sid) = rs.service else { continue };

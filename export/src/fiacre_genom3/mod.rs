@@ -69,10 +69,12 @@ fn unsupported(reason: String) -> ExportError {
 
 /// Whether some codel has a WCET (from the side file).
 fn has_wcets(c: &Component) -> bool {
-    let fsm = c
-        .genom3
-        .as_deref()
-        .is_some_and(|g| g.tasks.iter().flat_map(|t| &t.codels).any(|k| k.wcet.is_some()));
+    let fsm = c.genom3.as_deref().is_some_and(|g| {
+        g.tasks
+            .iter()
+            .flat_map(|t| &t.codels)
+            .any(|k| k.wcet.is_some())
+    });
     fsm || c.codels.iter().any(|(_, k)| k.wcet.is_some())
 }
 
@@ -94,9 +96,10 @@ fn instance_bound(input: &ExportInput<'_>) -> usize {
 fn refuse(c: &Component, r: &Read) -> Result<(), ExportError> {
     let other = "the uppaal and tchecker exports model it";
     for s in &r.slots {
-        let owner = s
-            .service
-            .map_or_else(|| format!("task {}", r.tasks[s.task].name), |x| c.services[x].name.name.clone());
+        let owner = s.service.map_or_else(
+            || format!("task {}", r.tasks[s.task].name),
+            |x| c.services[x].name.name.clone(),
+        );
         if !s.interrupts.is_empty() {
             return Err(unsupported(format!(
                 "activity {owner} interrupts other activities, which the Fiacre model of GenoM3 does not model yet; {other}"
@@ -160,7 +163,10 @@ fn header(l: &Layout<'_>, out: &mut String) {
 }
 
 fn component(l: &Layout<'_>, procs: &[Proc], out: &mut String) {
-    let _ = writeln!(out, "/* The root component: the shared variables and every process. */");
+    let _ = writeln!(
+        out,
+        "/* The root component: the shared variables and every process. */"
+    );
     let _ = writeln!(out, "component {} is", l.root);
     for (i, v) in l.vars.iter().enumerate() {
         let lead = if i == 0 { "  var " } else { "      " };
@@ -169,7 +175,11 @@ fn component(l: &Layout<'_>, procs: &[Proc], out: &mut String) {
     }
     let _ = writeln!(out, "  par * in");
     for (i, p) in procs.iter().enumerate() {
-        let args: Vec<String> = p.params.iter().map(|&v| format!("&{}", l.vars[v].name)).collect();
+        let args: Vec<String> = p
+            .params
+            .iter()
+            .map(|&v| format!("&{}", l.vars[v].name))
+            .collect();
         let sep = if i == 0 { "    " } else { " || " };
         let _ = writeln!(out, "{sep}{} ({})", p.name, args.join(", "));
     }
@@ -210,7 +220,11 @@ fn properties(l: &Layout<'_>, procs: &[Proc], out: &mut String) {
         if conds.is_empty() {
             continue;
         }
-        let _ = writeln!(out, "property {name} is ltl [] not ({})", conds.join(" or "));
+        let _ = writeln!(
+            out,
+            "property {name} is ltl [] not ({})",
+            conds.join(" or ")
+        );
         let _ = writeln!(
             out,
             "assert {name} -true \"{} never runs\" -false \"{} can run\"",

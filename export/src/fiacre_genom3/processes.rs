@@ -84,7 +84,8 @@ impl Proc {
 
 /// ` (file.gen:12:5)` or nothing.
 fn at(l: &Layout<'_>, span: genom_model::Span) -> String {
-    location(l.input.sources, span).map_or_else(String::new, |(f, line, col)| format!(" ({f}:{line}:{col})"))
+    location(l.input.sources, span)
+        .map_or_else(String::new, |(f, line, col)| format!(" ({f}:{line}:{col})"))
 }
 
 impl Layout<'_> {
@@ -132,7 +133,11 @@ impl Layout<'_> {
                 .iter()
                 .map(|&s| format!("{} = 0", p.v(self, self.slots[s].st)))
                 .collect();
-            let free = if free.is_empty() { String::new() } else { format!(" and ({})", free.join(" or ")) };
+            let free = if free.is_empty() {
+                String::new()
+            } else {
+                format!(" and ({})", free.join(" or "))
+            };
             let what = self.service_name(r);
             let ready = format!("on not {failed} and {booted} = {n}{free}");
             alts.push(match r.rq {
@@ -140,7 +145,10 @@ impl Layout<'_> {
                     let rq = p.v(self, rq);
                     format!("/* request {what} */ {ready} and not {rq}; {rq} := true; loop")
                 }
-                None => format!("/* request {what}, accepted at once */ {ready}; {}loop", self.accept(&mut p, r)),
+                None => format!(
+                    "/* request {what}, accepted at once */ {ready}; {}loop",
+                    self.accept(&mut p, r)
+                ),
             });
         }
         p.from("ready", "", &alts);
@@ -162,8 +170,20 @@ impl Layout<'_> {
             &["first", "periodic"],
         );
         let tick = p.v(self, t.tick);
-        p.from("first", "", &[format!("wait [{delay},{delay}]; {tick} := true; to periodic")]);
-        p.from("periodic", "", &[format!("wait [{period},{period}]; {tick} := true; to periodic")]);
+        p.from(
+            "first",
+            "",
+            &[format!(
+                "wait [{delay},{delay}]; {tick} := true; to periodic"
+            )],
+        );
+        p.from(
+            "periodic",
+            "",
+            &[format!(
+                "wait [{period},{period}]; {tick} := true; to periodic"
+            )],
+        );
         Some(p)
     }
 
@@ -181,7 +201,9 @@ impl Layout<'_> {
         p.from(
             "watching",
             "",
-            &[format!("wait [0,0]; on {tick} and {work} and not {failed}; to late")],
+            &[format!(
+                "wait [0,0]; on {tick} and {work} and not {failed}; to late"
+            )],
         );
         p.from(
             "late",
@@ -201,7 +223,12 @@ impl Layout<'_> {
         let mut out = Vec::new();
         for &s in &t.slots {
             let sl = &self.slots[s];
-            let (st, q, due, pz) = (p.v(self, sl.st), p.v(self, sl.q), p.v(self, sl.due), p.v(self, sl.pz));
+            let (st, q, due, pz) = (
+                p.v(self, sl.st),
+                p.v(self, sl.q),
+                p.v(self, sl.due),
+                p.v(self, sl.pz),
+            );
             if !runnable {
                 out.push(format!("if {st} = 3 and not {pz} then {due} := true end"));
                 continue;
@@ -229,8 +256,10 @@ impl Layout<'_> {
                 t.name,
                 at(self, t.span),
                 match t.period {
-                    Some(_) => "At each tick it starts the accepted instances and resumes the paused ones (only at a tick, 1.5)",
-                    None => "Without a period it is activated at any time while an instance waits to start or resume (15.4)",
+                    Some(_) =>
+                        "At each tick it starts the accepted instances and resumes the paused ones (only at a tick, 1.5)",
+                    None =>
+                        "Without a period it is activated at any time while an instance waits to start or resume (15.4)",
                 }
             ),
             &["sleep", "sweep"],
@@ -239,7 +268,11 @@ impl Layout<'_> {
         let booted = p.v(self, self.booted);
         let (work, cont, running) = (p.v(self, t.work), p.v(self, t.cont), p.v(self, t.running));
         let wake = self.pre_pass(&mut p, t, true);
-        let wake = if wake.is_empty() { String::new() } else { format!("{wake}; ") };
+        let wake = if wake.is_empty() {
+            String::new()
+        } else {
+            format!("{wake}; ")
+        };
         let spawned = format!("not {failed} and {booted} >= {}", t.index);
         let sleep = match t.period {
             Some(_) => {
@@ -268,7 +301,11 @@ impl Layout<'_> {
             }
         };
         p.from("sleep", "", &sleep);
-        let dues: Vec<String> = t.slots.iter().map(|&s| p.v(self, self.slots[s].due)).collect();
+        let dues: Vec<String> = t
+            .slots
+            .iter()
+            .map(|&s| p.v(self, self.slots[s].due))
+            .collect();
         let mut alts = Vec::new();
         let none_due = if dues.is_empty() {
             String::new()
@@ -276,7 +313,11 @@ impl Layout<'_> {
             format!(" and not ({})", dues.join(" or "))
         };
         let again = self.pre_pass(&mut p, t, t.period.is_none());
-        let again = if again.is_empty() { String::new() } else { format!("{again}; ") };
+        let again = if again.is_empty() {
+            String::new()
+        } else {
+            format!("{again}; ")
+        };
         alts.push(format!(
             "/* sweep again */ wait [0,0]; on not {failed} and not {running}{none_due} and {cont}; {cont} := false; {again}to sweep"
         ));
@@ -306,7 +347,9 @@ impl Layout<'_> {
                 continue;
             };
             let run = p.v(self, tf.run);
-            let begin = self.may_begin(p, th, Some(sl.turn), st.key).unwrap_or_else(|| "true".into());
+            let begin = self
+                .may_begin(p, th, Some(sl.turn), st.key)
+                .unwrap_or_else(|| "true".into());
             let leave = self.leave_queue(p, th);
             alts.push(format!(
                 "wait [0,0]; on {at} and {begin}; {leave}{go}; {run} := {}; to {to}",
@@ -314,7 +357,10 @@ impl Layout<'_> {
             ));
             if let Some(w) = self.must_wait(p, th, st.key) {
                 let take = self.take_ticket(p, th, Some(sl.turn));
-                alts.push(format!("/* a ticket for state {} */ wait [0,0]; on {at} and {w}; {take}; loop", st.name));
+                alts.push(format!(
+                    "/* a ticket for state {} */ wait [0,0]; on {at} and {w}; {take}; loop",
+                    st.name
+                ));
             }
         }
         alts
@@ -327,7 +373,10 @@ impl Layout<'_> {
         states.extend(s.states.iter().map(String::as_str));
         let mut p = Proc::new(
             &s.process,
-            format!("Task {}: {} (slot {} of its sweep).", t.name, s.what, s.turn),
+            format!(
+                "Task {}: {} (slot {} of its sweep).",
+                t.name, s.what, s.turn
+            ),
             &states,
         );
         let begin = self.begins(&mut p, t, s);
@@ -349,7 +398,13 @@ impl Layout<'_> {
                 .outcomes(&mut p, s, st)
                 .into_iter()
                 .enumerate()
-                .map(|(i, e)| if i == 0 { format!("wait [0,{w}]; {e}") } else { e })
+                .map(|(i, e)| {
+                    if i == 0 {
+                        format!("wait [0,{w}]; {e}")
+                    } else {
+                        e
+                    }
+                })
                 .collect();
             self.select_after_wait(&mut p, &s.states[k], &note, &ends);
         }
@@ -377,12 +432,18 @@ impl Layout<'_> {
             let _ = write!(body, "\n      {a}");
         }
         body.push_str("\n    end");
-        let _ = writeln!(p.froms, "  from {state}  /* {} */\n    {body}", comment(note));
+        let _ = writeln!(
+            p.froms,
+            "  from {state}  /* {} */\n    {body}",
+            comment(note)
+        );
     }
 
     fn codel_name(&self, st: &State) -> String {
-        st.codel
-            .map_or_else(|| st.name.clone(), |k| self.input.component.codels[k].name.name.clone())
+        st.codel.map_or_else(
+            || st.name.clone(),
+            |k| self.input.component.codels[k].name.name.clone(),
+        )
     }
 
     /// The outcomes of a codel (9.1): each yield, the end (`ether`, or an
@@ -400,7 +461,11 @@ impl Layout<'_> {
         let perm = self.r.slots[s.read].service.is_none();
         let boot = if perm {
             let b = p.v(self, self.booted);
-            format!("if {b} = {} then {b} := {} end; ", t.index, self.next_boot(t.index))
+            format!(
+                "if {b} = {} then {b} := {} end; ",
+                t.index,
+                self.next_boot(t.index)
+            )
         } else {
             String::new()
         };
@@ -412,7 +477,11 @@ impl Layout<'_> {
                 continue;
             }
             let name = &self.r.slots[s.read].fsm.states[n].name;
-            let unpaused = if pause { String::new() } else { format!("{cont} := true; ") };
+            let unpaused = if pause {
+                String::new()
+            } else {
+                format!("{cont} := true; ")
+            };
             out.push(format!(
                 "/* yield {}{name} */ {q} := {n}; {pz} := {pause}; {unpaused}{boot}{running} := false; to idle",
                 if pause { "pause::" } else { "" }
@@ -420,7 +489,9 @@ impl Layout<'_> {
         }
         let end = format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle");
         if !perm {
-            out.push(format!("/* ether or an exception: the instance ends */ {end}"));
+            out.push(format!(
+                "/* ether or an exception: the instance ends */ {end}"
+            ));
             return out;
         }
         let (b, f) = (p.v(self, self.booted), p.v(self, self.failed));

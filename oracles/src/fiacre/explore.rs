@@ -110,12 +110,19 @@ impl Net {
             let mut names = HashMap::new();
             for (p, a) in proc_.params.iter().zip(&inst.args) {
                 let slot = match (p.by_ref, a) {
-                    (true, Arg::Ref(v)) => *vars.get(v).ok_or_else(|| format!("no variable `{v}`"))?,
+                    (true, Arg::Ref(v)) => {
+                        *vars.get(v).ok_or_else(|| format!("no variable `{v}`"))?
+                    }
                     (false, Arg::Value(e)) => {
                         init_vars.push(constant(e)?);
                         init_vars.len() - 1
                     }
-                    _ => return Err(format!("`{}`: argument `{}` passed the wrong way", inst.name, p.name)),
+                    _ => {
+                        return Err(format!(
+                            "`{}`: argument `{}` passed the wrong way",
+                            inst.name, p.name
+                        ));
+                    }
                 };
                 names.insert(p.name.clone(), slot);
             }
@@ -142,10 +149,20 @@ impl Net {
                 name = format!("{}_{n}", proc_.name);
                 n += 1;
             }
-            insts.push(Inst { name, states: proc_.states.clone(), init, froms, names });
+            insts.push(Inst {
+                name,
+                states: proc_.states.clone(),
+                init,
+                froms,
+                names,
+            });
         }
         let max = insts.iter().map(max_constant).collect();
-        Ok(Net { insts, init_vars, max })
+        Ok(Net {
+            insts,
+            init_vars,
+            max,
+        })
     }
 
     /// The enabled transitions of instance `p` in `key`, checked against
@@ -174,13 +191,22 @@ impl Net {
     /// Lets time pass in `key` from `zone`, as far as the enabled
     /// transitions allow; `None` when an urgent one is enabled.
     fn delay(&self, key: &Key, zone: &mut Zone, all: &[Vec<Path>]) -> Result<(), String> {
-        if all.iter().flatten().any(|p| p.guarded && p.interval.is_some_and(urgent)) {
+        if all
+            .iter()
+            .flatten()
+            .any(|p| p.guarded && p.interval.is_some_and(urgent))
+        {
             return Ok(());
         }
         zone.up();
         for (p, list) in all.iter().enumerate() {
             for path in list {
-                if let Some(Interval { hi: Some(hi), hi_open, .. }) = path.interval {
+                if let Some(Interval {
+                    hi: Some(hi),
+                    hi_open,
+                    ..
+                }) = path.interval
+                {
                     let op = if hi_open { CmpOp::Lt } else { CmpOp::Le };
                     zone.constrain(p, op, hi)?;
                 }
@@ -204,8 +230,14 @@ impl Net {
                 Some((p, self.insts[p].states.iter().position(|x| x == s)?))
             })
             .collect();
-        let mut reach = Reach { complete: true, ..Reach::default() };
-        let key = Key { locs: self.insts.iter().map(|i| i.init).collect(), vars: self.init_vars.clone() };
+        let mut reach = Reach {
+            complete: true,
+            ..Reach::default()
+        };
+        let key = Key {
+            locs: self.insts.iter().map(|i| i.init).collect(),
+            vars: self.init_vars.clone(),
+        };
         let mut seen: HashMap<Key, Vec<Zone>> = HashMap::new();
         let mut queue = VecDeque::new();
         self.note(&key, &mut reach);
@@ -219,12 +251,18 @@ impl Net {
                 reach.complete = false;
                 break;
             }
-            let all: Vec<Vec<Path>> = (0..self.insts.len()).map(|p| self.enabled(p, &key)).collect::<Result<_, _>>()?;
+            let all: Vec<Vec<Path>> = (0..self.insts.len())
+                .map(|p| self.enabled(p, &key))
+                .collect::<Result<_, _>>()?;
             for (p, list) in all.iter().enumerate() {
                 for path in list {
-                    let Some((next, z)) = self.fire(&key, &zone, p, path)? else { continue };
+                    let Some((next, z)) = self.fire(&key, &zone, p, path)? else {
+                        continue;
+                    };
                     self.note(&next, &mut reach);
-                    let Some(z) = self.settle(&next, z, &strict, &mut reach)? else { continue };
+                    let Some(z) = self.settle(&next, z, &strict, &mut reach)? else {
+                        continue;
+                    };
                     let stored = seen.entry(next.clone()).or_default();
                     if stored.iter().any(|s| z.within(s)) {
                         continue;
@@ -239,7 +277,13 @@ impl Net {
     }
 
     /// The state after instance `p` takes `path` from `key` in `zone`.
-    fn fire(&self, key: &Key, zone: &Zone, p: usize, path: &Path) -> Result<Option<(Key, Zone)>, String> {
+    fn fire(
+        &self,
+        key: &Key,
+        zone: &Zone,
+        p: usize,
+        path: &Path,
+    ) -> Result<Option<(Key, Zone)>, String> {
         let mut z = zone.clone();
         if let (false, Some(i)) = (path.guarded, path.interval) {
             z.constrain(p, if i.lo_open { CmpOp::Gt } else { CmpOp::Ge }, i.lo)?;
@@ -263,8 +307,16 @@ impl Net {
 
     /// Time passes in a new state; the strict states cut it; the zone is
     /// extrapolated. `None` when nothing is left.
-    fn settle(&self, key: &Key, mut z: Zone, strict: &[(usize, usize)], reach: &mut Reach) -> Result<Option<Zone>, String> {
-        let all: Vec<Vec<Path>> = (0..self.insts.len()).map(|p| self.enabled(p, key)).collect::<Result<_, _>>()?;
+    fn settle(
+        &self,
+        key: &Key,
+        mut z: Zone,
+        strict: &[(usize, usize)],
+        reach: &mut Reach,
+    ) -> Result<Option<Zone>, String> {
+        let all: Vec<Vec<Path>> = (0..self.insts.len())
+            .map(|p| self.enabled(p, key))
+            .collect::<Result<_, _>>()?;
         self.delay(key, &mut z, &all)?;
         for &(p, s) in strict {
             if key.locs[p] != s {
@@ -273,14 +325,21 @@ impl Net {
             let mut later = z.clone();
             later.constrain(p, CmpOp::Gt, 0)?;
             if !later.is_empty() {
-                reach.lingered.insert((self.insts[p].name.clone(), self.insts[p].states[s].clone()));
+                reach
+                    .lingered
+                    .insert((self.insts[p].name.clone(), self.insts[p].states[s].clone()));
             }
             z.constrain(p, CmpOp::Le, 0)?;
         }
         if z.is_empty() {
             return Ok(None);
         }
-        let max: Vec<i64> = key.locs.iter().enumerate().map(|(p, &s)| self.max[p][s]).collect();
+        let max: Vec<i64> = key
+            .locs
+            .iter()
+            .enumerate()
+            .map(|(p, &s)| self.max[p][s])
+            .collect();
         z.extrapolate(&max);
         Ok(Some(z))
     }

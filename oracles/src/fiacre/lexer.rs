@@ -25,8 +25,8 @@ pub enum Kind {
 }
 
 const SYMBOLS: [&str; 26] = [
-    "...", ":=", "[]", "||", "<>", "<=", ">=", "->", "(", ")", "[", "]", "{", "}", ",", ";",
-    ":", "&", "=", "<", ">", "+", "-", "*", "/", "%",
+    "...", ":=", "[]", "||", "<>", "<=", ">=", "->", "(", ")", "[", "]", "{", "}", ",", ";", ":",
+    "&", "=", "<", ">", "+", "-", "*", "/", "%",
 ];
 
 /// The tokens of `text`, or the line of the first character that is not
@@ -54,7 +54,10 @@ pub fn lex(text: &str) -> Result<Vec<Tok>, String> {
             let n = text[i..]
                 .find(|ch: char| !(ch.is_ascii_alphanumeric() || ch == '_'))
                 .unwrap_or(text.len() - i);
-            out.push(Tok { kind: Kind::Ident(text[i..i + n].to_owned()), line });
+            out.push(Tok {
+                kind: Kind::Ident(text[i..i + n].to_owned()),
+                line,
+            });
             i += n;
         } else if c.is_ascii_digit() {
             let n = text[i..]
@@ -63,20 +66,29 @@ pub fn lex(text: &str) -> Result<Vec<Tok>, String> {
             let v = text[i..i + n]
                 .parse()
                 .map_err(|_| format!("line {line}: integer too large"))?;
-            out.push(Tok { kind: Kind::Int(v), line });
+            out.push(Tok {
+                kind: Kind::Int(v),
+                line,
+            });
             i += n;
         } else if c == b'"' {
             let end = text[i + 1..]
                 .find('"')
                 .ok_or(format!("line {line}: string not closed"))?;
-            out.push(Tok { kind: Kind::Str(text[i + 1..i + 1 + end].to_owned()), line });
+            out.push(Tok {
+                kind: Kind::Str(text[i + 1..i + 1 + end].to_owned()),
+                line,
+            });
             i += end + 2;
         } else {
             let sym = SYMBOLS
                 .iter()
                 .find(|s| text[i..].starts_with(*s))
                 .ok_or(format!("line {line}: unexpected character `{}`", c as char))?;
-            out.push(Tok { kind: Kind::Sym(sym), line });
+            out.push(Tok {
+                kind: Kind::Sym(sym),
+                line,
+            });
             i += sym.len();
         }
     }

@@ -5,7 +5,9 @@
 //! `assert` lines. Ports, `function`s and priorities are not read (an
 //! error says so).
 
-use super::ast::{Arg, BinOp, Component, Expr, Instance, Interval, Param, Process, Program, Property, Stmt};
+use super::ast::{
+    Arg, BinOp, Component, Expr, Instance, Interval, Param, Process, Program, Property, Stmt,
+};
 use super::lexer::{Kind, Tok, lex};
 
 /// Parses a whole program.
@@ -28,11 +30,18 @@ impl Parser {
     }
 
     fn line(&self) -> usize {
-        self.toks.get(self.i).or(self.toks.last()).map_or(0, |t| t.line)
+        self.toks
+            .get(self.i)
+            .or(self.toks.last())
+            .map_or(0, |t| t.line)
     }
 
     fn err<T>(&self, what: &str) -> R<T> {
-        Err(format!("line {}: {what}, found {:?}", self.line(), self.peek()))
+        Err(format!(
+            "line {}: {what}, found {:?}",
+            self.line(),
+            self.peek()
+        ))
     }
 
     fn is_kw(&self, kw: &str) -> bool {
@@ -60,11 +69,19 @@ impl Parser {
     }
 
     fn kw(&mut self, kw: &str) -> R<()> {
-        if self.eat_kw(kw) { Ok(()) } else { self.err(&format!("expected `{kw}`")) }
+        if self.eat_kw(kw) {
+            Ok(())
+        } else {
+            self.err(&format!("expected `{kw}`"))
+        }
     }
 
     fn sym(&mut self, s: &str) -> R<()> {
-        if self.eat_sym(s) { Ok(()) } else { self.err(&format!("expected `{s}`")) }
+        if self.eat_sym(s) {
+            Ok(())
+        } else {
+            self.err(&format!("expected `{s}`"))
+        }
     }
 
     fn ident(&mut self) -> R<String> {
@@ -138,7 +155,10 @@ impl Parser {
     fn property(&mut self) -> R<Property> {
         let name = self.ident()?;
         self.kw("is")?;
-        Ok(Property { name, formula: self.skip_clause() })
+        Ok(Property {
+            name,
+            formula: self.skip_clause(),
+        })
     }
 
     /// A type: a type name (`bool`, `nat`, `int`, or declared).
@@ -187,7 +207,11 @@ impl Parser {
         }
         let mut vars = Vec::new();
         if self.eat_kw("var") {
-            vars = self.var_decls()?.into_iter().map(|(n, _, e)| (n, e)).collect();
+            vars = self
+                .var_decls()?
+                .into_iter()
+                .map(|(n, _, e)| (n, e))
+                .collect();
         }
         let mut init = None;
         if self.eat_kw("init") {
@@ -199,7 +223,14 @@ impl Parser {
             let s = self.ident()?;
             froms.push((s, self.block()?));
         }
-        Ok(Process { name, params, states, vars, init, froms })
+        Ok(Process {
+            name,
+            params,
+            states,
+            vars,
+            init,
+            froms,
+        })
     }
 
     /// `x, y : T := e, z : U` (the initial value optional).
@@ -212,7 +243,11 @@ impl Parser {
             }
             self.sym(":")?;
             let ty = self.ty()?;
-            let init = if self.eat_sym(":=") { Some(self.expr()?) } else { None };
+            let init = if self.eat_sym(":=") {
+                Some(self.expr()?)
+            } else {
+                None
+            };
             out.extend(names.into_iter().map(|n| (n, ty.clone(), init.clone())));
             if !self.eat_sym(",") {
                 return Ok(out);
@@ -324,7 +359,11 @@ impl Parser {
                 break;
             }
         }
-        let other = if self.eat_kw("else") { self.block()? } else { Vec::new() };
+        let other = if self.eat_kw("else") {
+            self.block()?
+        } else {
+            Vec::new()
+        };
         self.end("if")?;
         Ok(Stmt::If(arms, other))
     }
@@ -357,7 +396,12 @@ impl Parser {
         self.sym(",")?;
         if self.eat_sym("...") {
             self.sym("[")?;
-            return Ok(Interval { lo, lo_open, hi: None, hi_open: true });
+            return Ok(Interval {
+                lo,
+                lo_open,
+                hi: None,
+                hi_open: true,
+            });
         }
         let hi = self.int()?;
         let hi_open = if self.eat_sym("[") {
@@ -366,7 +410,12 @@ impl Parser {
             self.sym("]")?;
             false
         };
-        Ok(Interval { lo, lo_open, hi: Some(hi), hi_open })
+        Ok(Interval {
+            lo,
+            lo_open,
+            hi: Some(hi),
+            hi_open,
+        })
     }
 
     fn expr(&mut self) -> R<Expr> {
@@ -460,8 +509,38 @@ impl Parser {
 
 /// Fiacre's reserved words the parser meets (never identifiers).
 const KEYWORDS: [&str; 34] = [
-    "and", "assert", "component", "const", "do", "else", "elsif", "end", "false", "from", "if",
-    "in", "init", "is", "loop", "not", "null", "on", "or", "par", "port", "priority",
-    "process", "property", "select", "states", "then", "to", "true", "type", "var", "wait",
-    "while", "function",
+    "and",
+    "assert",
+    "component",
+    "const",
+    "do",
+    "else",
+    "elsif",
+    "end",
+    "false",
+    "from",
+    "if",
+    "in",
+    "init",
+    "is",
+    "loop",
+    "not",
+    "null",
+    "on",
+    "or",
+    "par",
+    "port",
+    "priority",
+    "process",
+    "property",
+    "select",
+    "states",
+    "then",
+    "to",
+    "true",
+    "type",
+    "var",
+    "wait",
+    "while",
+    "function",
 ];

@@ -39,9 +39,24 @@ struct Run<'a> {
 }
 
 /// Every enabled transition of the statement `body` from state `here`.
-pub fn paths(scope: &dyn Scope, here: &str, body: &[Stmt], vars: &[i64]) -> Result<Vec<Path>, String> {
-    let mut run = Run { scope, here, out: Vec::new(), steps: 0 };
-    let start = Path { interval: None, guarded: false, target: String::new(), vars: vars.to_vec() };
+pub fn paths(
+    scope: &dyn Scope,
+    here: &str,
+    body: &[Stmt],
+    vars: &[i64],
+) -> Result<Vec<Path>, String> {
+    let mut run = Run {
+        scope,
+        here,
+        out: Vec::new(),
+        steps: 0,
+    };
+    let start = Path {
+        interval: None,
+        guarded: false,
+        target: String::new(),
+        vars: vars.to_vec(),
+    };
     run.exec(&[body], start)?;
     Ok(run.out)
 }
@@ -50,7 +65,10 @@ impl Run<'_> {
     /// Runs the statements of `todo` (slices in order) on `p`.
     fn exec(&mut self, todo: &[&[Stmt]], mut p: Path) -> Result<(), String> {
         let Some((first, rest)) = todo.split_first() else {
-            return Err(format!("a transition from `{}` ends without `to` or `loop`", self.here));
+            return Err(format!(
+                "a transition from `{}` ends without `to` or `loop`",
+                self.here
+            ));
         };
         let Some((s, more)) = first.split_first() else {
             return self.exec(rest, p);
@@ -64,7 +82,10 @@ impl Run<'_> {
         match s {
             Stmt::Null => self.exec(&next, p),
             Stmt::Assign(lhs, rhs) => {
-                let values: Vec<i64> = rhs.iter().map(|e| self.eval(e, &p.vars)).collect::<Result<_, _>>()?;
+                let values: Vec<i64> = rhs
+                    .iter()
+                    .map(|e| self.eval(e, &p.vars))
+                    .collect::<Result<_, _>>()?;
                 for (x, v) in lhs.iter().zip(values) {
                     let i = self.scope.slot(x)?;
                     p.vars[i] = v;
