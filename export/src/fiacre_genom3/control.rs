@@ -7,7 +7,7 @@
 //! for their locks and run `wait [0,WCET]` like a task's.
 
 use super::layout::{Layout, Request};
-use super::processes::Proc;
+use super::process::Proc;
 
 /// The thread a codel runs in: a task (index) or the control task.
 #[derive(Clone, Copy)]

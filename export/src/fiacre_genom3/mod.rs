@@ -8,7 +8,9 @@
 //! components") describes the translation process by process.
 //!
 //! - [`layout`]: the names, shared variables and time unit;
-//! - [`processes`]: the text of every process;
+//! - [`process`]: a process as it is built, and its declaration;
+//! - [`processes`]: the text of every process but the control task's;
+//! - [`control`]: the control task, the locks and the resource FIFO;
 //! - this file: what the translation refuses, and the component, the
 //!   header and the properties.
 //!
@@ -19,6 +21,7 @@
 
 mod control;
 mod layout;
+mod process;
 mod processes;
 
 use std::fmt::Write as _;
@@ -31,7 +34,7 @@ use crate::pnml::tool_version;
 use crate::{ExportError, ExportInput, Exported};
 
 use layout::Layout;
-use processes::Proc;
+use process::Proc;
 
 /// Exports a GenoM3 component as a timed Fiacre model.
 pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
