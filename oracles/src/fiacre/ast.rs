@@ -3,6 +3,8 @@
 //! transition, boolean and integer expressions). Properties and
 //! assertions are kept as text.
 
+pub use genom_model::timed_automata::CmpOp;
+
 /// A binary operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BinOp {
@@ -10,18 +12,8 @@ pub enum BinOp {
     Or,
     /// `and`
     And,
-    /// `=`
-    Eq,
-    /// `<>`
-    Ne,
-    /// `<`
-    Lt,
-    /// `<=`
-    Le,
-    /// `>`
-    Gt,
-    /// `>=`
-    Ge,
+    /// A comparison (`=`, `<>`, `<`, `<=`, `>`, `>=`).
+    Cmp(CmpOp),
     /// `+`
     Add,
     /// `-`

@@ -384,3 +384,53 @@ fn max_constant(i: &Inst) -> Vec<i64> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fiacre::parse;
+
+    /// A worker that takes [2,work] twice against a clock at 10: the watcher
+    /// can stay `late` for a positive time only when the two together can
+    /// exceed 10.
+    fn late(work: i64) -> bool {
+        let text = format!(
+            "process clock (&t : bool) is states a, b from a wait [10,10]; t := true; to b\n\
+             process worker (&t : bool, &done : bool) is states s1, s2, fin\n\
+               from s1 wait [2,{work}]; to s2\n\
+               from s2 wait [2,{work}]; done := true; to fin\n\
+             process watch (&t : bool, &done : bool) is states w, late\n\
+               from w wait [0,0]; on t and not done; to late\n\
+               from late wait [0,0]; on done; to w\n\
+             component c is var t : bool := false, done : bool := false\n\
+               par * in clock (&t) || worker (&t, &done) || watch (&t, &done) end\n\
+             c\n"
+        );
+        let net = Net::new(&parse(&text).expect("parses")).expect("instantiates");
+        let reach = net
+            .explore(&[("watch".to_owned(), "late".to_owned())], 10_000)
+            .expect("runs");
+        assert!(reach.complete);
+        reach
+            .lingered
+            .contains(&("watch".to_owned(), "late".to_owned()))
+    }
+
+    #[test]
+    fn deadlines_and_urgency_follow_the_intervals() {
+        assert!(!late(4), "4 + 4 ends before the clock at 10");
+        assert!(
+            !late(5),
+            "5 + 5 may end at 10, and must: the work is done first"
+        );
+        assert!(late(6), "6 + 6 may end after 10");
+    }
+
+    #[test]
+    fn an_on_condition_with_a_delay_is_outside_the_subset() {
+        let text = "process p (&x : bool) is states a from a on x; wait [1,2]; to a\n\
+                    component c is var x : bool := true par * in p (&x) end c\n";
+        let net = Net::new(&parse(text).expect("parses")).expect("instantiates");
+        assert!(net.explore(&[], 100).is_err());
+    }
+}

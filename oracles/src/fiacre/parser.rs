@@ -6,7 +6,7 @@
 //! error says so).
 
 use super::ast::{
-    Arg, BinOp, Component, Expr, Instance, Interval, Param, Process, Program, Property, Stmt,
+    Arg, BinOp, CmpOp, Component, Expr, Instance, Interval, Param, Process, Program, Property, Stmt,
 };
 use super::lexer::{Kind, Tok, lex};
 
@@ -444,12 +444,12 @@ impl Parser {
     fn comparison(&mut self) -> R<Expr> {
         let e = self.sum()?;
         let op = match self.peek() {
-            Some(Kind::Sym("=")) => BinOp::Eq,
-            Some(Kind::Sym("<>")) => BinOp::Ne,
-            Some(Kind::Sym("<")) => BinOp::Lt,
-            Some(Kind::Sym("<=")) => BinOp::Le,
-            Some(Kind::Sym(">")) => BinOp::Gt,
-            Some(Kind::Sym(">=")) => BinOp::Ge,
+            Some(Kind::Sym("=")) => BinOp::Cmp(CmpOp::Eq),
+            Some(Kind::Sym("<>")) => BinOp::Cmp(CmpOp::Ne),
+            Some(Kind::Sym("<")) => BinOp::Cmp(CmpOp::Lt),
+            Some(Kind::Sym("<=")) => BinOp::Cmp(CmpOp::Le),
+            Some(Kind::Sym(">")) => BinOp::Cmp(CmpOp::Gt),
+            Some(Kind::Sym(">=")) => BinOp::Cmp(CmpOp::Ge),
             _ => return Ok(e),
         };
         self.i += 1;

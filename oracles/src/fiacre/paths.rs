@@ -167,12 +167,7 @@ fn binary(op: BinOp, x: i64, y: i64) -> Result<i64, String> {
     Ok(match op {
         BinOp::Or => i64::from(x != 0 || y != 0),
         BinOp::And => i64::from(x != 0 && y != 0),
-        BinOp::Eq => i64::from(x == y),
-        BinOp::Ne => i64::from(x != y),
-        BinOp::Lt => i64::from(x < y),
-        BinOp::Le => i64::from(x <= y),
-        BinOp::Gt => i64::from(x > y),
-        BinOp::Ge => i64::from(x >= y),
+        BinOp::Cmp(c) => i64::from(crate::ta_sim::cmp(c, x, y)),
         BinOp::Add => x + y,
         BinOp::Sub => x - y,
         BinOp::Mul => x * y,

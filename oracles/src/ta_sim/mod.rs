@@ -43,7 +43,8 @@ pub struct Reach {
     pub problems: Vec<String>,
 }
 
-fn cmp(op: CmpOp, a: i64, b: i64) -> bool {
+/// Whether `a op b` (also the Fiacre interpreter's comparisons).
+pub(crate) fn cmp(op: CmpOp, a: i64, b: i64) -> bool {
     match op {
         CmpOp::Eq => a == b,
         CmpOp::Ne => a != b,
