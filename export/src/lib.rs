@@ -8,6 +8,7 @@
 pub mod config;
 pub mod dot;
 pub mod fiacre;
+pub mod fiacre_genom3;
 pub mod pnml;
 pub mod promela;
 pub mod promela_genom3;
@@ -80,10 +81,10 @@ impl Format {
     /// The language whose execution semantics the export of a component
     /// written in `dialect` encodes: the one place an export's translation
     /// is chosen by language. The timed automata (`uppaal`, `tchecker`),
-    /// `promela`, the Petri nets (`pnml`, `tina`: GenoM3's untimed) and the
-    /// runtime configuration (`config`) encode each language's own; Fiacre
-    /// LANGUAGE.md's only; the diagrams draw the
-    /// structure, the same in both.
+    /// `promela`, the Petri nets (`pnml`, `tina`: GenoM3's untimed), Fiacre
+    /// (LANGUAGE.md's untimed net; GenoM3's timed semantics) and the
+    /// runtime configuration (`config`) encode each language's own; the
+    /// diagrams draw the structure, the same in both.
     pub fn semantics(self, dialect: Dialect) -> Dialect {
         match self {
             Format::Uppaal
@@ -93,8 +94,8 @@ impl Format {
             | Format::Pnml
             | Format::Tina
             | Format::Dot
-            | Format::Svg => dialect,
-            Format::Fiacre => Dialect::Gen,
+            | Format::Svg
+            | Format::Fiacre => dialect,
         }
     }
 
@@ -264,7 +265,8 @@ pub fn export(format: Format, input: &ExportInput<'_>) -> Result<Exported, Expor
         (Format::Tchecker, s) => tchecker::export(input, timed_network(c, s, "tchecker")?),
         (Format::Promela, Dialect::Gen) => promela::export(input),
         (Format::Promela, Dialect::Genom3) => promela_genom3::export(input),
-        (Format::Fiacre, _) => fiacre::export(input),
+        (Format::Fiacre, Dialect::Gen) => fiacre::export(input),
+        (Format::Fiacre, Dialect::Genom3) => fiacre_genom3::export(input),
         (Format::Pnml, _) => pnml::export(input),
         (Format::Tina, _) => tina::export(input),
         (Format::Config, _) => config::export(input),

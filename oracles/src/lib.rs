@@ -17,8 +17,11 @@
 //! - [`petri`]: the token game of the Petri net, with its own bounded
 //!   breadth-first search, and the graph of its stable markings;
 //! - [`ta_sim`]: an interpreter of timed-automata networks (explicit
-//!   locations and variables, clocks as zones).
+//!   locations and variables, clocks as zones);
+//! - [`fiacre`]: a parser of Fiacre models and an interpreter of the timed
+//!   subset the GenoM3 `fiacre` export uses (clocks as zones).
 
+pub mod fiacre;
 pub mod petri;
 pub mod replay;
 pub mod ta_sim;

@@ -221,25 +221,24 @@ fn max_instances_explores_more_instances_with_the_same_verdicts() {
 
 #[test]
 fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_are_not() {
-    // Verified (untimed) and clean, but the Fiacre model would have
-    // LANGUAGE.md's semantics: refused, allowed only marked unverified.
+    // The Fiacre model of a GenoM3 component is timed: without a WCET
+    // file it is refused with the remedy, marked unverified or not.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo.fcr");
-    let refused = genom_check()
-        .args(["export", "fiacre", DEMO, "-o"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert_eq!(refused.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&refused.stderr);
-    assert!(stderr.contains("not GenoM3's"), "{stderr}");
-    assert!(!out.exists());
-    let marked = genom_check()
-        .args(["export", "fiacre", "--allow-unverified", DEMO, "-o"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert_eq!(marked.status.code(), Some(0));
+    for extra in [&[][..], &["--allow-unverified"][..]] {
+        let refused = genom_check()
+            .args(["export", "fiacre"])
+            .args(extra)
+            .arg(DEMO)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(refused.status.code(), Some(1), "{extra:?}");
+        let stderr = String::from_utf8_lossy(&refused.stderr);
+        assert!(stderr.contains("--wcet"), "{stderr}");
+        assert!(!out.exists());
+    }
     // The timed-automata exports print GenoM3's own timed semantics.
     for (format, file) in [("uppaal", "demo.xml"), ("tchecker", "demo.tck")] {
         let path = dir.path().join(file);

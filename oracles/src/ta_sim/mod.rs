@@ -14,7 +14,7 @@
 //! An oracle (it reads the network alone): `tests/differential` compares
 //! the labels it reaches with those of the engines and of `tck-reach`.
 
-mod zone;
+pub(crate) mod zone;
 
 use std::collections::{BTreeSet, HashMap, VecDeque};
 
@@ -43,7 +43,8 @@ pub struct Reach {
     pub problems: Vec<String>,
 }
 
-fn cmp(op: CmpOp, a: i64, b: i64) -> bool {
+/// Whether `a op b` (also the Fiacre interpreter's comparisons).
+pub(crate) fn cmp(op: CmpOp, a: i64, b: i64) -> bool {
     match op {
         CmpOp::Eq => a == b,
         CmpOp::Ne => a != b,

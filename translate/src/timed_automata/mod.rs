@@ -57,7 +57,7 @@
 //! identifiers).
 
 mod builder;
-mod genom3;
+pub mod genom3;
 mod names;
 
 use genom_model::behaviour::Behaviour;

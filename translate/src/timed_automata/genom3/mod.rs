@@ -53,7 +53,7 @@
 
 mod control;
 mod fifo;
-mod read;
+pub mod read;
 mod stmts;
 mod tasks;
 
@@ -230,23 +230,9 @@ fn refuse(r: &Read) -> Result<(), Genom3NetworkError> {
     Ok(())
 }
 
-fn gcd(a: u64, b: u64) -> u64 {
-    if b == 0 { a } else { gcd(b, a % b) }
-}
-
 impl<'a> Builder<'a> {
     fn new(c: &'a Component, r: Read) -> Self {
-        let mut unit = 0;
-        for t in &r.tasks {
-            unit = gcd(gcd(unit, t.period_ns.unwrap_or(0)), t.delay_ns);
-        }
-        for s in r.slots.iter().flat_map(|s| s.fsm.states.iter()) {
-            unit = gcd(unit, s.wcet_ns);
-        }
-        for k in r.ctl_codels.values().flatten() {
-            unit = gcd(unit, k.wcet_ns);
-        }
-        let unit = unit.max(1);
+        let unit = r.unit_ns();
         let name = sanitize(&c.name.name);
         let mut names: BTreeSet<String> = ["urgency", "hurry", "calm", name.as_str()]
             .iter()
@@ -359,7 +345,7 @@ impl<'a> Builder<'a> {
             "key + 1 of the running control codel (0: none)".to_owned(),
         );
         self.bounds = self.key_bounds();
-        self.timed_ctl = self.timed_control_codels();
+        self.timed_ctl = self.r.contended_control_codels();
         let phases = self
             .timed_ctl
             .values()
@@ -501,26 +487,6 @@ impl<'a> Builder<'a> {
         }
         for k in self.r.ctl_codels.values().flatten() {
             out[k.key] = (0, Some(self.units(k.wcet_ns)));
-        }
-        out
-    }
-
-    /// The control codels with a lock some task's codel contends (15.5),
-    /// even those that take no time (waiting, their ticket delays those
-    /// behind it); the others are instantaneous and take no ticket.
-    fn timed_control_codels(&self) -> BTreeMap<ServiceId, Vec<usize>> {
-        let mut out = BTreeMap::new();
-        for (&sid, list) in &self.r.ctl_codels {
-            let kept: Vec<usize> = (0..list.len())
-                .filter(|&i| {
-                    let k = list[i].key;
-                    !self.r.keys[k].excl.is_empty()
-                        || self.r.keys.iter().any(|j| j.excl.contains(&k))
-                })
-                .collect();
-            if !kept.is_empty() {
-                out.insert(sid, kept);
-            }
         }
         out
     }

@@ -16,11 +16,11 @@ use genom_model::span::Span;
 
 /// Where a yield leads: a state (`Some`) or `ether` (`None`), and whether
 /// it is a `pause::` yield.
-pub(super) type Yield = (Option<usize>, bool);
+pub type Yield = (Option<usize>, bool);
 
 /// One state of a codel state machine.
 #[derive(Debug, Clone)]
-pub(super) struct State {
+pub struct State {
     /// The state's name.
     pub name: String,
     /// The model codel standing for it (activities only).
@@ -39,7 +39,7 @@ pub(super) struct State {
 
 /// A codel state machine.
 #[derive(Debug, Clone, Default)]
-pub(super) struct Fsm {
+pub struct Fsm {
     pub states: Vec<State>,
     pub start: Option<usize>,
     pub stop: Option<usize>,
@@ -48,7 +48,7 @@ pub(super) struct Fsm {
 /// An instance slot: one instance of an activity, or a task's permanent
 /// activity.
 #[derive(Debug, Clone)]
-pub(super) struct Slot {
+pub struct Slot {
     /// An identifier part (`move`, `move_2`, `task_t`).
     pub name: String,
     /// Its task (index into [`Read::tasks`]).
@@ -67,7 +67,7 @@ pub(super) struct Slot {
 
 /// A task.
 #[derive(Debug, Clone)]
-pub(super) struct Task {
+pub struct Task {
     pub id: ThreadId,
     pub name: String,
     pub period_ns: Option<u64>,
@@ -81,7 +81,7 @@ pub(super) struct Task {
 
 /// What a control service does besides its codels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum CtlKind {
+pub enum CtlKind {
     Plain,
     Kill,
     Abort,
@@ -90,7 +90,7 @@ pub(super) enum CtlKind {
 /// A control codel (`validate`, a function's codel, or an attribute's ids
 /// copy).
 #[derive(Debug, Clone)]
-pub(super) struct CtlCodel {
+pub struct CtlCodel {
     pub name: String,
     pub wcet_ns: u64,
     pub key: usize,
@@ -100,7 +100,7 @@ pub(super) struct CtlCodel {
 
 /// A function or attribute.
 #[derive(Debug, Clone)]
-pub(super) struct Control {
+pub struct Control {
     pub service: ServiceId,
     pub kind: CtlKind,
     /// The slots it interrupts after its codels succeeded.
@@ -109,14 +109,14 @@ pub(super) struct Control {
 
 /// Who owns a key: a slot's state or a service's control codel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum KeyOwner {
+pub enum KeyOwner {
     Slot(usize, usize),
     Ctl(ServiceId, usize),
 }
 
 /// One codel as the locks see it.
 #[derive(Debug, Clone)]
-pub(super) struct Key {
+pub struct Key {
     pub owner: KeyOwner,
     /// Its task (`None`: the control thread).
     pub task: Option<usize>,
@@ -128,7 +128,7 @@ pub(super) struct Key {
 
 /// A data access, as GenoM3's `param_mutex` compares them (8.1).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) struct Access {
+pub struct Access {
     /// `ids`, or `port NAME` / `remote NAME`.
     pub base: String,
     /// The member path below the base.
@@ -202,7 +202,7 @@ impl Access {
 
 /// Everything read from the component.
 #[derive(Debug, Clone, Default)]
-pub(super) struct Read {
+pub struct Read {
     pub tasks: Vec<Task>,
     pub slots: Vec<Slot>,
     pub controls: Vec<Control>,
@@ -218,8 +218,49 @@ pub(super) struct Read {
     pub slot_of: BTreeMap<ServiceId, Vec<usize>>,
 }
 
+impl Read {
+    /// Per service, its control codels (indices into its `ctl_codels`)
+    /// with a lock some task's codel contends, even those that take no
+    /// time (waiting, their ticket delays those behind it, 15.5); the
+    /// others are instantaneous and take no ticket.
+    pub fn contended_control_codels(&self) -> BTreeMap<ServiceId, Vec<usize>> {
+        let mut out = BTreeMap::new();
+        for (&sid, list) in &self.ctl_codels {
+            let kept: Vec<usize> = (0..list.len())
+                .filter(|&i| {
+                    let k = list[i].key;
+                    !self.keys[k].excl.is_empty() || self.keys.iter().any(|j| j.excl.contains(&k))
+                })
+                .collect();
+            if !kept.is_empty() {
+                out.insert(sid, kept);
+            }
+        }
+        out
+    }
+
+    /// The unit of time, in nanoseconds: the greatest common divisor of
+    /// the periods, delays and WCETs (task and control codels), 1 at least.
+    pub fn unit_ns(&self) -> u64 {
+        fn gcd(a: u64, b: u64) -> u64 {
+            if b == 0 { a } else { gcd(b, a % b) }
+        }
+        let mut unit = 0;
+        for t in &self.tasks {
+            unit = gcd(gcd(unit, t.period_ns.unwrap_or(0)), t.delay_ns);
+        }
+        for s in self.slots.iter().flat_map(|s| s.fsm.states.iter()) {
+            unit = gcd(unit, s.wcet_ns);
+        }
+        for k in self.ctl_codels.values().flatten() {
+            unit = gcd(unit, k.wcet_ns);
+        }
+        unit.max(1)
+    }
+}
+
 /// Reads a GenoM3 component.
-pub(super) fn read(c: &Component, g: &Genom3Info) -> Read {
+pub fn read(c: &Component, g: &Genom3Info) -> Read {
     let mut r = Read::default();
     let mut task_of = BTreeMap::new();
     for (tid, t) in c.threads.iter() {
