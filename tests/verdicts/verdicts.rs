@@ -1369,9 +1369,11 @@ fn a_state_limit_gives_incomplete_and_no_negative_claim() {
 }
 
 /// Two services on two threads that share nothing: two clusters, explored
-/// one after the other; `Small`'s is tiny, `Large`'s loops.
+/// one after the other (timed: they share no lock either); `Small`'s is
+/// tiny, `Large`'s loops.
 const TWO_CLUSTERS: &str = r#"component two { category: default; lang: C; }
-ids d { double a; double b; }
+ids d { double a; }
+ids e { double b; }
 thread small { priority: 10; PERIOD }
 thread large { priority: 20; PERIOD }
 service Small {
@@ -1381,10 +1383,10 @@ service Small {
 service Large {
   thread: large;
   report: FAIL;
-  start codel { exec: f1(d.b); MAX next: e1, e2; }
-  exec codel e1 { exec: f2(d.b); MAX next: e2, e3, end; }
-  exec codel e2 { exec: f3(d.b); MAX next: e1, e3, FAIL; }
-  exec codel e3 { exec: f4(d.b); MAX next: e1, end; }
+  start codel { exec: f1(e.b); MAX next: e1, e2; }
+  exec codel e1 { exec: f2(e.b); MAX next: e2, e3, end; }
+  exec codel e2 { exec: f3(e.b); MAX next: e1, e3, FAIL; }
+  exec codel e3 { exec: f4(e.b); MAX next: e1, end; }
 }
 "#;
 
