@@ -226,13 +226,13 @@ fn the_table_follows_the_diagnostics() {
         .output()
         .unwrap();
     let text = String::from_utf8(out.stdout).unwrap();
-    let table = "worst-case response times (acknowledgment to final reply):\n  service  worst response\n  Park     unbounded\n  Ping     13ms\n  Track    unbounded\n";
+    let table = "worst-case response times (acknowledgment to final reply):\n  service  worst response  own codels\n  Park     unbounded       1ms\n  Ping     13ms            1ms\n  Track    unbounded       loops\n";
     let at = text.find(table).unwrap_or_else(|| panic!("{text}"));
     assert!(text.find("starvation").is_some_and(|d| d < at), "{text}");
     assert!(
         text[at..]
             .lines()
-            .nth(5)
+            .nth(6)
             .is_some_and(|l| l.starts_with("tests/fixtures/response/unbounded.gen: 1 error")),
         "{text}"
     );
