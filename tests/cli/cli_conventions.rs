@@ -163,9 +163,9 @@ fn human_reports_say_once_how_to_learn_more_about_a_code() {
 #[test]
 fn genom3_users_read_explanations_in_genom3_words_first() {
     const LONG: &str = "tests/fixtures/genom3/timing/f11_permanent_long";
-    let gen = format!("{LONG}.gen");
+    let source = format!("{LONG}.gen");
     let wcet = format!("{LONG}.wcet");
-    let (status, stdout, _) = run(genom_check().args(["check", &gen, "--wcet", &wcet]));
+    let (status, stdout, _) = run(genom_check().args(["check", &source, "--wcet", &wcet]));
     assert_eq!(status, 1, "{stdout}");
     assert!(
         stdout.contains(
@@ -192,7 +192,7 @@ fn genom3_users_read_explanations_in_genom3_words_first() {
     assert!(!text[..dialect].contains("max-time"), "{text}");
     // SARIF of a GenoM3 file: the rules' help reads the same way.
     let (_, sarif, _) = run(genom_check().args([
-        "check", &gen, "--wcet", &wcet, "--format", "sarif",
+        "check", &source, "--wcet", &wcet, "--format", "sarif",
     ]));
     let doc: serde_json::Value = serde_json::from_str(&sarif).expect("SARIF is JSON");
     let help = doc["runs"][0]["tool"]["driver"]["rules"][0]["help"]["text"]

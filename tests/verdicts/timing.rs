@@ -1376,3 +1376,51 @@ fn auto_services_start_whatever_they_say_about_each_other() {
         );
     }
 }
+
+/// A LANGUAGE.md timed result says what it rests on, in the human summary,
+/// JSON and SARIF: the codels' `max-time`s (there is no WCET file, and no
+/// instance bound: the language allows one instance per service); an
+/// untimed one rests on nothing.
+#[test]
+fn timed_dialect_verdicts_state_their_assumption_in_every_format() {
+    let run = |args: &[&str]| {
+        let out = Command::cargo_bin("genom-check")
+            .expect("binary")
+            .args(["--color", "never"])
+            .args(args)
+            .output()
+            .expect("runs");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let timed = "specs/battery.gen";
+    let human = run(&[timed]);
+    let line = human
+        .lines()
+        .find(|l| l.trim_start().starts_with("assuming "))
+        .unwrap_or_else(|| panic!("{human}"));
+    assert!(
+        line.contains("every codel takes at most its `max-time`"),
+        "{line}"
+    );
+    let doc: Value = serde_json::from_str(&run(&["--format", "json", timed])).expect("JSON");
+    let all = doc["files"][0]["assumptions"].as_array().expect("a list");
+    assert_eq!(all.len(), 1, "{doc:#}");
+    assert_eq!(all[0]["kind"], "wcet");
+    assert!(all[0].get("file").is_none(), "{doc:#}");
+    let sarif: Value = serde_json::from_str(&run(&["--format", "sarif", timed])).expect("SARIF");
+    let notes = &sarif["runs"][0]["invocations"][0]["toolExecutionNotifications"];
+    assert_eq!(notes[0]["descriptor"]["id"], "assumption/wcet", "{sarif:#}");
+    // Untimed: nothing assumed.
+    let untimed = common::valid("minimal.gen");
+    let doc: Value = serde_json::from_str(&run(&[
+        "--format",
+        "json",
+        untimed.to_str().expect("UTF-8"),
+    ]))
+    .expect("JSON");
+    assert_eq!(
+        doc["files"][0]["assumptions"].as_array().map(Vec::len),
+        Some(0),
+        "{doc:#}"
+    );
+}
