@@ -135,7 +135,8 @@ pub fn render_table(times: &[ResponseTime]) -> String {
             [
                 r.service.clone(),
                 r.worst.human(),
-                r.own.map_or_else(|| "loops".to_owned(), crate::duration::format_ns),
+                r.own
+                    .map_or_else(|| "loops".to_owned(), crate::duration::format_ns),
                 r.note.clone().unwrap_or_default(),
             ]
         })

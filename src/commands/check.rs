@@ -206,7 +206,6 @@ pub(super) fn explain_hint(reports: &[FileReport<'_>]) -> Option<String> {
     })
 }
 
-
 /// GitHub annotations (advice and summaries left out with `--quiet`).
 fn print_github(reports: &[FileReport<'_>], output: &OutputArgs) {
     let kept: Vec<Vec<genom_model::Diagnostic>> = reports

@@ -176,12 +176,8 @@ fn genom3_users_read_explanations_in_genom3_words_first() {
     // The codel-overrun of a GenoM3 task: the period is a label of the
     // report, not an advice of its own.
     assert!(!stdout.contains("Advice"), "{stdout}");
-    let (status, text, _) = run(genom_check().args([
-        "explain",
-        "--dialect",
-        "genom3",
-        "codel-overrun",
-    ]));
+    let (status, text, _) =
+        run(genom_check().args(["explain", "--dialect", "genom3", "codel-overrun"]));
     assert_eq!(status, 0);
     let genom3 = text.find("GenoM3 components").expect("a GenoM3 section");
     let dialect = text
@@ -191,9 +187,8 @@ fn genom3_users_read_explanations_in_genom3_words_first() {
     assert!(text[..dialect].contains("yield pause::"), "{text}");
     assert!(!text[..dialect].contains("max-time"), "{text}");
     // SARIF of a GenoM3 file: the rules' help reads the same way.
-    let (_, sarif, _) = run(genom_check().args([
-        "check", &source, "--wcet", &wcet, "--format", "sarif",
-    ]));
+    let (_, sarif, _) =
+        run(genom_check().args(["check", &source, "--wcet", &wcet, "--format", "sarif"]));
     let doc: serde_json::Value = serde_json::from_str(&sarif).expect("SARIF is JSON");
     let help = doc["runs"][0]["tool"]["driver"]["rules"][0]["help"]["text"]
         .as_str()

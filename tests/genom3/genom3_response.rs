@@ -81,7 +81,9 @@ fn a_function_waits_for_the_lock_held_by_a_task_codel() {
     assert_eq!(own(&r, "watch"), None, "`watch` loops");
     let table = genom_model::response::render_table(&r.response_times);
     assert!(
-        table.lines().any(|l| l.split_whitespace().collect::<Vec<_>>() == ["set", "5ms", "1ms"]),
+        table
+            .lines()
+            .any(|l| l.split_whitespace().collect::<Vec<_>>() == ["set", "5ms", "1ms"]),
         "{table}"
     );
     assert!(table.contains("own codels"), "{table}");

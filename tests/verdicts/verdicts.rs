@@ -1397,7 +1397,9 @@ fn incomplete_help(text: &str, states: usize) -> String {
         Path::new("two.gen"),
         text.to_owned(),
         &genom_model::loader::MemoryLoader::default(),
-        &CheckOptions::new().max_states(states).engine(Engine::Explicit),
+        &CheckOptions::new()
+            .max_states(states)
+            .engine(Engine::Explicit),
     );
     let helps: Vec<String> = result
         .diagnostics
@@ -1411,9 +1413,7 @@ fn incomplete_help(text: &str, states: usize) -> String {
 
 #[test]
 fn an_unfinished_exploration_says_which_clusters_it_decided_and_what_it_spent() {
-    let untimed = TWO_CLUSTERS
-        .replace("PERIOD ", "")
-        .replace("MAX ", "");
+    let untimed = TWO_CLUSTERS.replace("PERIOD ", "").replace("MAX ", "");
     let help = incomplete_help(&untimed, 8);
     assert!(
         help.contains("codel reachability for service `Large`; raise the limit"),
@@ -1425,7 +1425,10 @@ fn an_unfinished_exploration_says_which_clusters_it_decided_and_what_it_spent() 
     );
     assert!(!help.contains("thread"), "untimed: no timing named: {help}");
     let spent = help.split(". Stopped after ").nth(1).unwrap_or_default();
-    assert!(spent.contains(" states in ") && spent.ends_with(" s"), "{help}");
+    assert!(
+        spent.contains(" states in ") && spent.ends_with(" s"),
+        "{help}"
+    );
 
     // With durations, the threads are named too: `small`'s timing is
     // decided, `large`'s is not.

@@ -129,7 +129,11 @@ pub fn check(c: &Component, analysis: &Analysis) -> Vec<Diagnostic> {
             "; whether {} {} can overrun and {} services end within their `max-time`",
             plural("thread", open_threads.len()),
             open_threads.join(", "),
-            if open_threads.len() == 1 { "its" } else { "their" }
+            if open_threads.len() == 1 {
+                "its"
+            } else {
+                "their"
+            }
         ));
     }
     let done: Vec<String> = c
