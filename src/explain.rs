@@ -120,7 +120,8 @@ mod tests {
             assert!(after_header.starts_with("GenoM3 "), "{code:?}: {text}");
             assert!(text.contains("\n## In the LANGUAGE.md dialect\n"), "{text}");
             // The same paragraphs, reordered.
-            let mut a: Vec<&str> = explanation(code).split("\n\n").map(str::trim).collect();
+            let plain = explanation(code);
+            let mut a: Vec<&str> = plain.split("\n\n").map(str::trim).collect();
             let mut b: Vec<&str> = text
                 .split("\n\n")
                 .map(str::trim)
