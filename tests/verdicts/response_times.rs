@@ -256,8 +256,8 @@ fn json_lists_response_times_by_service_name() {
     assert_eq!(
         times,
         &serde_json::json!([
-            {"service": "Halt", "status": "exact", "worst_ns": 11_000_000, "note": null},
-            {"service": "Move", "status": "exact", "worst_ns": 41_000_000, "note": null},
+            {"service": "Halt", "status": "exact", "worst_ns": 11_000_000, "own_ns": 0, "note": null},
+            {"service": "Move", "status": "exact", "worst_ns": 41_000_000, "own_ns": 9_000_000, "note": null},
         ])
     );
     assert_eq!(doc["files"][1]["response_times"], serde_json::json!([]));
