@@ -449,6 +449,12 @@ pub struct BudgetArgs {
 pub struct ExplainArgs {
     /// A diagnostic code, such as `deadlock` or `unknown-data`.
     pub code: String,
+
+    /// Whose words come first: `genom3` puts the section about GenoM3
+    /// components (tasks, activities, `yield`, WCET files) before the
+    /// LANGUAGE.md text; `gen` (the default) the other way round.
+    #[arg(long, value_enum)]
+    pub dialect: Option<DialectArg>,
 }
 
 /// Arguments of the hidden `generate` subcommand (see

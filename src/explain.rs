@@ -5,12 +5,42 @@
 //! or in the checker's registry (`genom_checker::checks`).
 
 use genom_model::Code;
+use genom_model::dialect::Dialect;
 
 use crate::pipeline::FRONTENDS;
 
 /// The explanation of a code, in Markdown.
 pub fn explanation(code: Code) -> String {
     explanation_with(code, body(code))
+}
+
+/// The explanation of a code for a user of `dialect`: for GenoM3, the
+/// section about GenoM3 components (the paragraphs from the first that
+/// begins `GenoM3 `) comes first, in GenoM3's words (tasks, activities,
+/// `yield`, WCET files), and the LANGUAGE.md text after it under its own
+/// heading; a code without such a section, and LANGUAGE.md, read as
+/// [`explanation`].
+pub fn explanation_for(code: Code, dialect: Dialect) -> String {
+    let body = body(code);
+    match (dialect, split_genom3(body)) {
+        (Dialect::Genom3, Some((language, genom3))) => explanation_with(
+            code,
+            &format!(
+                "{}\n\n## In the LANGUAGE.md dialect\n\n{}",
+                genom3.trim_end(),
+                language.trim_end()
+            ),
+        ),
+        _ => explanation_with(code, body),
+    }
+}
+
+/// `body` split before its first paragraph that begins `GenoM3 `, when it
+/// has one after some text of its own.
+fn split_genom3(body: &str) -> Option<(&str, &str)> {
+    let at = body.match_indices("\n\nGenoM3 ").next()?.0;
+    let (language, genom3) = body.split_at(at);
+    Some((language, genom3.trim_start())).filter(|(g, _)| !g.trim().is_empty())
 }
 
 /// The explanation of a code with the text `body`, in the format of
@@ -80,6 +110,33 @@ mod tests {
             assert_eq!(texts.len(), 1, "`{code}` has {} owners", texts.len());
             assert!(!texts[0].trim().is_empty(), "`{code}` has no explanation");
         }
+    }
+
+    #[test]
+    fn for_genom3_the_genom3_section_comes_first_and_nothing_is_lost() {
+        for code in [Code::CodelOverrun, Code::ThreadOverrun, Code::Incomplete] {
+            let text = explanation_for(code, Dialect::Genom3);
+            let after_header = text.split_once(".\n\n").map_or("", |(_, b)| b);
+            assert!(after_header.starts_with("GenoM3 "), "{code:?}: {text}");
+            assert!(text.contains("\n## In the LANGUAGE.md dialect\n"), "{text}");
+            // The same paragraphs, reordered.
+            let plain = explanation(code);
+            let mut a: Vec<&str> = plain.split("\n\n").map(str::trim).collect();
+            let mut b: Vec<&str> = text
+                .split("\n\n")
+                .map(str::trim)
+                .filter(|p| !p.starts_with("## In the LANGUAGE.md"))
+                .collect();
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b, "{code:?}");
+            assert_eq!(explanation_for(code, Dialect::Gen), explanation(code));
+        }
+        // A code without a GenoM3 section reads the same either way.
+        assert_eq!(
+            explanation_for(Code::Deadlock, Dialect::Genom3),
+            explanation(Code::Deadlock)
+        );
     }
 
     #[test]

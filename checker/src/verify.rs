@@ -291,7 +291,13 @@ pub fn verify(
             complete: analysis.stopped.is_none(),
             bytes_per_state: Some(analysis.footprint.bytes_per_state),
             decided_by: decisions(c, &analysis, timed),
-            assumptions: Vec::new(),
+            // Instances need no bound: LANGUAGE.md allows one per service
+            // (section 3); durations are the codels' `max-time`s.
+            assumptions: if timed {
+                vec![genom_model::Assumption::max_times()]
+            } else {
+                Vec::new()
+            },
         });
     }
     sort_diagnostics(&mut diagnostics);

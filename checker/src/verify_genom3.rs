@@ -62,20 +62,49 @@ pub fn verify_genom3(
         out.extend(unreached_codels(&m, &analysis));
     }
     out.extend(livelock::check(&m, &analysis));
-    if let Some(stop) = analysis.stopped {
-        out.push(incomplete::incomplete(
-            c,
-            stop,
-            "dead services, codel reachability and livelocks (GenoM3 semantics)",
-        ));
-    }
-    let (mut states, mut transitions) = (analysis.states, analysis.transitions);
-    let mut footprint = analysis.footprint;
     let names = |tasks: &[usize], services: &[ServiceId]| -> Vec<String> {
         let tasks = tasks.iter().map(|&t| format!("task {}", m.tasks[t].name));
         let services = services.iter().map(|&s| m.service_name(s).to_owned());
         tasks.chain(services).collect()
     };
+    if let Some(stop) = analysis.stopped {
+        let (done, open): (Vec<_>, Vec<_>) = analysis.parts.iter().partition(|p| p.complete);
+        let listed = |parts: &[&crate::genom3::analysis::PartRecord]| -> String {
+            let tasks = parts.iter().flat_map(|p| &p.tasks);
+            let services = parts.iter().flat_map(|p| &p.services);
+            let all: Vec<String> = tasks
+                .map(|&t| format!("task `{}`", m.tasks[t].name))
+                .chain(services.map(|&s| format!("`{}`", m.service_name(s))))
+                .collect();
+            all.join(", ")
+        };
+        let what = if open.is_empty() {
+            "dead services, codel reachability and livelocks (GenoM3 semantics)".to_owned()
+        } else {
+            format!(
+                "dead services, codel reachability and livelocks of {} (GenoM3 semantics)",
+                listed(&open)
+            )
+        };
+        let proven: Vec<String> = if done.is_empty() {
+            Vec::new()
+        } else {
+            vec![format!(
+                "the untimed verdicts of {} (their parts were explored to the end)",
+                listed(&done)
+            )]
+        };
+        let spent = format!(
+            "{} states in {:.1} s",
+            genom_model::limits::grouped(analysis.states),
+            started.elapsed().as_secs_f64()
+        );
+        out.push(incomplete::incomplete_partly(
+            c, stop, &what, &proven, &spent,
+        ));
+    }
+    let (mut states, mut transitions) = (analysis.states, analysis.transitions);
+    let mut footprint = analysis.footprint;
     let mut decided_by: Vec<Decision> = analysis
         .parts
         .iter()

@@ -81,6 +81,10 @@ pub struct ResponseTime {
     pub span: Span,
     /// What is known of its worst case.
     pub worst: Bound,
+    /// The service's own time: its codels' WCETs along its longest chain
+    /// (`None` when a loop leaves no longest chain). The rest of `worst` is
+    /// waiting: for locks, for other requests, for its task's ticks.
+    pub own: Option<u64>,
     /// Why the bound is not exact, when it is not (a short clause).
     pub note: Option<String>,
 }
@@ -94,6 +98,9 @@ pub struct JsonResponseTime {
     pub status: &'static str,
     /// The figure of `exact`, `at-most` and `above`, else null.
     pub worst_ns: Option<u64>,
+    /// The service's own codels' time on their longest chain, or null (a
+    /// loop); `worst_ns` beyond it is waiting.
+    pub own_ns: Option<u64>,
     /// Why the bound is not exact, or null.
     pub note: Option<String>,
 }
@@ -104,6 +111,7 @@ impl From<&ResponseTime> for JsonResponseTime {
             service: r.service.clone(),
             status: r.worst.status(),
             worst_ns: r.worst.ns(),
+            own_ns: r.own,
             note: r.note.clone(),
         }
     }
@@ -120,39 +128,44 @@ pub fn render_table(times: &[ResponseTime]) -> String {
     if times.is_empty() {
         return String::new();
     }
-    let rows: Vec<(String, String, String)> = times
+    let head = ["service", "worst response", "own codels", ""];
+    let rows: Vec<[String; 4]> = times
         .iter()
         .map(|r| {
-            (
+            [
                 r.service.clone(),
                 r.worst.human(),
+                r.own
+                    .map_or_else(|| "loops".to_owned(), crate::duration::format_ns),
                 r.note.clone().unwrap_or_default(),
-            )
+            ]
         })
         .collect();
-    let w0 = rows
-        .iter()
-        .map(|r| r.0.chars().count())
-        .max()
-        .unwrap_or(0)
-        .max("service".len());
-    let w1 = rows
-        .iter()
-        .map(|r| r.1.chars().count())
-        .max()
-        .unwrap_or(0)
-        .max("worst response".len());
-    let mut out = String::from("worst-case response times (acknowledgment to final reply):\n");
-    let line = |a: &str, b: &str, c: &str| {
-        let pad0 = w0 - a.chars().count();
-        let pad1 = w1 - b.chars().count();
-        let text = format!("  {a}{}  {b}{}  {c}", " ".repeat(pad0), " ".repeat(pad1));
+    let width = |i: usize| {
+        rows.iter()
+            .map(|r| r[i].chars().count())
+            .chain([head[i].len()])
+            .max()
+            .unwrap_or(0)
+    };
+    let widths = [width(0), width(1), width(2)];
+    let line = |cells: [&str; 4]| {
+        let mut text = String::from("  ");
+        for (cell, w) in cells.iter().zip(widths) {
+            text.push_str(cell);
+            text.push_str(&" ".repeat(w - cell.chars().count() + 2));
+        }
+        text.push_str(cells[3]);
         format!("{}\n", text.trim_end())
     };
-    out.push_str(&line("service", "worst response", ""));
-    for (a, b, c) in &rows {
-        out.push_str(&line(a, b, c));
+    let mut out = String::from("worst-case response times (acknowledgment to final reply):\n");
+    out.push_str(&line(head));
+    for r in &rows {
+        out.push_str(&line([&r[0], &r[1], &r[2], &r[3]]));
     }
+    out.push_str(
+        "  (own codels: the service's own codels on their longest chain, at their WCETs; the rest of a worst response is waiting for locks, other requests or its task's ticks)\n",
+    );
     out
 }
 
@@ -165,6 +178,7 @@ mod tests {
             service: service.to_owned(),
             span: Span::default(),
             worst,
+            own: Some(2_000_000),
             note: None,
         }
     }
@@ -187,9 +201,11 @@ mod tests {
             rt("LongName", Bound::Unbounded),
         ]);
         let lines: Vec<&str> = table.lines().collect();
-        assert_eq!(lines.len(), 4, "{table}");
-        assert_eq!(lines[2], "  Go        12ms");
-        assert_eq!(lines[3], "  LongName  unbounded");
+        assert_eq!(lines.len(), 5, "{table}");
+        assert_eq!(lines[1], "  service   worst response  own codels");
+        assert_eq!(lines[2], "  Go        12ms            2ms");
+        assert_eq!(lines[3], "  LongName  unbounded       2ms");
+        assert!(lines[4].starts_with("  (own codels: "), "{table}");
         assert_eq!(render_table(&[]), "");
     }
 }

@@ -33,7 +33,7 @@ pub struct Assumption {
     /// `wcet` (durations from a WCET file) or `instances` (a bound on the
     /// concurrent instances of each activity).
     pub kind: &'static str,
-    /// The WCET file, for `wcet`.
+    /// The WCET file, for `wcet` (none: the component's own `max-time`s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
     /// The bound, for `instances`.
@@ -51,6 +51,18 @@ impl Assumption {
             file: Some(file.to_owned()),
             bound: None,
             text: format!("every codel takes at most its WCET from `{file}`"),
+        }
+    }
+
+    /// LANGUAGE.md: codels take at most their `max-time` (the WCETs are
+    /// the component's own; one without `max-time` is taken as running in
+    /// no time: `missing-wcet`).
+    pub fn max_times() -> Self {
+        Assumption {
+            kind: "wcet",
+            file: None,
+            bound: None,
+            text: "every codel takes at most its `max-time` (one without, no time)".to_owned(),
         }
     }
 

@@ -38,7 +38,7 @@ mod with_smt {
     use genom_model::component::{CodelId, Component};
     use genom_model::duration::format_ns;
     use genom_model::{Code, Dialect, Severity};
-    use genom_render::{FileReport, github, human, json, sarif};
+    use genom_render::{FileReport, github, human, json};
     use serde_json::{Value, json};
 
     use super::super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -149,11 +149,7 @@ mod with_smt {
         };
         match output.format {
             Format::Json => terminal::emit(&(json::render(&[report]) + "\n")),
-            Format::Sarif => terminal::emit(&sarif::render(
-                &[report],
-                &crate::commands::explain::text_of,
-                env!("CARGO_PKG_VERSION"),
-            )),
+            Format::Sarif => terminal::emit(&crate::commands::explain::sarif(&[report])),
             Format::Github => {
                 let summary = [human::render_summary(shown, report.counts())];
                 terminal::emit(&github::render(&[report], Some(&summary)));

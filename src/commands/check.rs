@@ -3,7 +3,7 @@
 
 use genom_check::{CheckOptions, CheckResult, display};
 use genom_model::{Counts, Dialect, Severity};
-use genom_render::{FileReport, escaped, github, human, json, sarif};
+use genom_render::{FileReport, escaped, github, human, json};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{CheckArgs, Deny, EngineArg, Format, OutputArgs};
@@ -67,11 +67,7 @@ pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
         Format::Human => print_human(&reports, output),
         Format::Json => terminal::emit(&(json::render_with_unread(&reports, &unread) + "\n")),
         Format::Github => print_github(&reports, output),
-        Format::Sarif => terminal::emit(&sarif::render(
-            &reports,
-            &super::explain::text_of,
-            env!("CARGO_PKG_VERSION"),
-        )),
+        Format::Sarif => terminal::emit(&super::explain::sarif(&reports)),
     }
     exit_status(&reports, output.deny, !unread.is_empty())
 }
@@ -197,11 +193,15 @@ pub(super) fn explain_hint(reports: &[FileReport<'_>]) -> Option<String> {
         .code
         .as_str();
     let distinct: std::collections::BTreeSet<&str> = all().map(|d| d.code.as_str()).collect();
+    let explain = match super::explain::common_dialect(reports) {
+        Dialect::Genom3 => "genom-check explain --dialect genom3",
+        Dialect::Gen => "genom-check explain",
+    };
     Some(if distinct.len() == 1 {
-        format!("For more information about `{example}`, run `genom-check explain {example}`.")
+        format!("For more information about `{example}`, run `{explain} {example}`.")
     } else {
         format!(
-            "For more information about a code, run `genom-check explain CODE`, e.g. `genom-check explain {example}`."
+            "For more information about a code, run `{explain} CODE`, e.g. `{explain} {example}`."
         )
     })
 }

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use genom_check::{CheckOptions, CheckResult};
 use genom_export::{ExportInput, Format, Verification};
-use genom_render::{FileReport, escaped, github, json, sarif};
+use genom_render::{FileReport, escaped, github, json};
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use crate::cli::{Color, Deny, ExportArgs, ExportFormat, Format as ReportFormat, OutputArgs};
@@ -197,11 +197,7 @@ fn report_text(shown: &str, result: &CheckResult, output: &OutputArgs, color: bo
             return github::render(std::slice::from_ref(&report), Some(&summary));
         }
         ReportFormat::Sarif => {
-            return sarif::render(
-                std::slice::from_ref(&report),
-                &super::explain::text_of,
-                env!("CARGO_PKG_VERSION"),
-            );
+            return super::explain::sarif(std::slice::from_ref(&report));
         }
         ReportFormat::Human => {}
     }

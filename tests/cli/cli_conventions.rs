@@ -161,6 +161,46 @@ fn human_reports_say_once_how_to_learn_more_about_a_code() {
 }
 
 #[test]
+fn genom3_users_read_explanations_in_genom3_words_first() {
+    const LONG: &str = "tests/fixtures/genom3/timing/f11_permanent_long";
+    let source = format!("{LONG}.gen");
+    let wcet = format!("{LONG}.wcet");
+    let (status, stdout, _) = run(genom_check().args(["check", &source, "--wcet", &wcet]));
+    assert_eq!(status, 1, "{stdout}");
+    assert!(
+        stdout.contains(
+            "For more information about `codel-overrun`, run `genom-check explain --dialect genom3 codel-overrun`."
+        ),
+        "{stdout}"
+    );
+    // The codel-overrun of a GenoM3 task: the period is a label of the
+    // report, not an advice of its own.
+    assert!(!stdout.contains("Advice"), "{stdout}");
+    let (status, text, _) =
+        run(genom_check().args(["explain", "--dialect", "genom3", "codel-overrun"]));
+    assert_eq!(status, 0);
+    let genom3 = text.find("GenoM3 components").expect("a GenoM3 section");
+    let dialect = text
+        .find("## In the LANGUAGE.md dialect")
+        .expect("the LANGUAGE.md section after it");
+    assert!(genom3 < dialect, "{text}");
+    assert!(text[..dialect].contains("yield pause::"), "{text}");
+    assert!(!text[..dialect].contains("max-time"), "{text}");
+    // SARIF of a GenoM3 file: the rules' help reads the same way.
+    let (_, sarif, _) =
+        run(genom_check().args(["check", &source, "--wcet", &wcet, "--format", "sarif"]));
+    let doc: serde_json::Value = serde_json::from_str(&sarif).expect("SARIF is JSON");
+    let help = doc["runs"][0]["tool"]["driver"]["rules"][0]["help"]["text"]
+        .as_str()
+        .unwrap_or_default();
+    assert!(help.contains("GenoM3 components"), "{help}");
+    assert!(
+        help.find("GenoM3 components") < help.find("## In the LANGUAGE.md dialect"),
+        "{help}"
+    );
+}
+
+#[test]
 fn sizes_and_durations_accept_the_usual_units() {
     for (option, value) in [
         ("--max-memory", "4GB"),

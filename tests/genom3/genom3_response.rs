@@ -75,6 +75,26 @@ fn a_function_waits_for_the_lock_held_by_a_task_codel() {
     let r = times("r3_function_lock");
     assert_eq!(worst(&r, "set"), Bound::Exact(5 * MS));
     assert_eq!(worst(&r, "watch"), Bound::Unbounded);
+    // Its own codel takes 1ms: the other 4ms are the wait for the lock,
+    // and the table and JSON say so apart.
+    assert_eq!(own(&r, "set"), Some(MS));
+    assert_eq!(own(&r, "watch"), None, "`watch` loops");
+    let table = genom_model::response::render_table(&r.response_times);
+    assert!(
+        table
+            .lines()
+            .any(|l| l.split_whitespace().collect::<Vec<_>>() == ["set", "5ms", "1ms"]),
+        "{table}"
+    );
+    assert!(table.contains("own codels"), "{table}");
+}
+
+fn own(r: &CheckResult, service: &str) -> Option<u64> {
+    r.response_times
+        .iter()
+        .find(|t| t.service == service)
+        .unwrap_or_else(|| panic!("no response time for `{service}`"))
+        .own
 }
 
 #[test]

@@ -8,6 +8,7 @@
 mod common;
 mod compose;
 mod regressions;
+mod reporting;
 mod response_times;
 mod static_checks;
 mod timing;

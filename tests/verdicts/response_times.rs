@@ -226,13 +226,13 @@ fn the_table_follows_the_diagnostics() {
         .output()
         .unwrap();
     let text = String::from_utf8(out.stdout).unwrap();
-    let table = "worst-case response times (acknowledgment to final reply):\n  service  worst response\n  Park     unbounded\n  Ping     13ms\n  Track    unbounded\n";
+    let table = "worst-case response times (acknowledgment to final reply):\n  service  worst response  own codels\n  Park     unbounded       1ms\n  Ping     13ms            1ms\n  Track    unbounded       loops\n";
     let at = text.find(table).unwrap_or_else(|| panic!("{text}"));
     assert!(text.find("starvation").is_some_and(|d| d < at), "{text}");
     assert!(
         text[at..]
             .lines()
-            .nth(5)
+            .nth(6)
             .is_some_and(|l| l.starts_with("tests/fixtures/response/unbounded.gen: 1 error")),
         "{text}"
     );
@@ -256,8 +256,8 @@ fn json_lists_response_times_by_service_name() {
     assert_eq!(
         times,
         &serde_json::json!([
-            {"service": "Halt", "status": "exact", "worst_ns": 11_000_000, "note": null},
-            {"service": "Move", "status": "exact", "worst_ns": 41_000_000, "note": null},
+            {"service": "Halt", "status": "exact", "worst_ns": 11_000_000, "own_ns": 0, "note": null},
+            {"service": "Move", "status": "exact", "worst_ns": 41_000_000, "own_ns": 9_000_000, "note": null},
         ])
     );
     assert_eq!(doc["files"][1]["response_times"], serde_json::json!([]));

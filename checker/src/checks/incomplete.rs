@@ -103,23 +103,98 @@ pub fn deadline_without_wcet(c: &Component, s: ServiceId, ns: u64) -> Diagnostic
     .with_help("give the codels' WCETs in a `--wcet` file: response times are computed in time")
 }
 
-/// The `incomplete` diagnostic, if exploration stopped early.
+/// The `incomplete` diagnostic, if exploration stopped early: what is left
+/// unproven (the services of the clusters whose exploration stopped), what
+/// was decided (the other services' verdicts, and with durations the
+/// threads all of whose services were explored to the end), and what the
+/// explorations spent.
 pub fn check(c: &Component, analysis: &Analysis) -> Vec<Diagnostic> {
     let Some(stop) = analysis.stopped else {
         return Vec::new();
     };
-    let names: Vec<String> = analysis
-        .unproven
-        .iter()
-        .map(|&s| format!("`{}`", c.services[s].name.name))
-        .collect();
+    let quoted = |s: &ServiceId| format!("`{}`", c.services[*s].name.name);
+    let names: Vec<String> = analysis.unproven.iter().map(quoted).collect();
     let scope = if names.is_empty() {
         "the component".to_owned()
     } else {
-        format!("services {}", names.join(", "))
+        format!("{} {}", plural("service", names.len()), names.join(", "))
     };
-    let what = format!(
+    let mut what = format!(
         "deadlock and starvation freedom, unbounded interrupts, dead services and codel reachability for {scope}"
     );
-    vec![incomplete(c, stop, &what)]
+    let timed = c.gives_timing();
+    let (open_threads, done_threads) = threads_by_decision(c, analysis);
+    if timed && !open_threads.is_empty() {
+        what.push_str(&format!(
+            "; whether {} {} can overrun and {} services end within their `max-time`",
+            plural("thread", open_threads.len()),
+            open_threads.join(", "),
+            if open_threads.len() == 1 {
+                "its"
+            } else {
+                "their"
+            }
+        ));
+    }
+    let done: Vec<String> = c
+        .services
+        .ids()
+        .filter(|s| !analysis.unproven.contains(s))
+        .map(|s| quoted(&s))
+        .collect();
+    let mut proven = Vec::new();
+    if !done.is_empty() {
+        proven.push(format!(
+            "the verdicts of {} {} (explored to the end)",
+            plural("service", done.len()),
+            done.join(", ")
+        ));
+    }
+    if timed && !done_threads.is_empty() {
+        proven.push(format!(
+            "the timing of {} {} (`thread-overrun`, `max-time`)",
+            plural("thread", done_threads.len()),
+            done_threads.join(", ")
+        ));
+    }
+    let spent = format!(
+        "{} states in {:.1} s",
+        genom_model::limits::grouped(analysis.states),
+        analysis.elapsed.as_secs_f64()
+    );
+    vec![incomplete_partly(c, stop, &what, &proven, &spent)]
+}
+
+/// `word`, with an `s` when `n` is not 1.
+fn plural(word: &str, n: usize) -> String {
+    if n == 1 {
+        word.to_owned()
+    } else {
+        format!("{word}s")
+    }
+}
+
+/// The threads that run some service, quoted, split into those with a
+/// service left unproven and those all of whose services were decided (a
+/// thread's services are in one timed cluster: `Component::timed_clusters`).
+fn threads_by_decision(c: &Component, analysis: &Analysis) -> (Vec<String>, Vec<String>) {
+    let (mut open, mut done) = (Vec::new(), Vec::new());
+    for (t, thread) in c.threads.iter() {
+        let mut services = c
+            .services
+            .iter()
+            .filter(|(_, s)| s.thread.map(|r| r.id) == Some(t))
+            .map(|(id, _)| id)
+            .peekable();
+        if services.peek().is_none() {
+            continue;
+        }
+        let name = format!("`{}`", thread.name.name);
+        if services.any(|s| analysis.unproven.contains(&s)) {
+            open.push(name);
+        } else {
+            done.push(name);
+        }
+    }
+    (open, done)
 }

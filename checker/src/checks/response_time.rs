@@ -57,12 +57,58 @@ pub fn response_times(c: &Component, found: &[ServiceResponse]) -> Vec<ResponseT
                 service: svc.name.name.clone(),
                 span: svc.name.span,
                 worst,
+                own: own_time(c, r.service),
                 note,
             }
         })
         .collect();
     sort_response_times(&mut out);
     out
+}
+
+/// The service's own time: its control codels (GenoM3: `validate` and an
+/// attribute's or function's codel) plus its longest chain of codels from
+/// `start` to an end (the `next`/`yield` graph, interrupt codels left out),
+/// each at its WCET (0 without codels); `None` when that graph has a cycle
+/// (a loop has no longest chain). A worst response above it
+/// is time spent waiting: for locks, for other requests, for ticks.
+pub fn own_time(c: &Component, s: ServiceId) -> Option<u64> {
+    use genom_model::component::Outcome;
+    use genom_model::kinds::CodelKind;
+    let svc = &c.services[s];
+    let wcet = |k: genom_model::component::CodelId| c.codels[k].wcet.map_or(0, |d| d.ns);
+    let control: u64 = svc
+        .codels
+        .iter()
+        .filter(|&&k| c.codels[k].kind == CodelKind::Control)
+        .map(|&k| wcet(k))
+        .sum();
+    // Longest chain from `start`, by depth-first search with the codels on
+    // the current path: meeting one again is a cycle.
+    fn longest(
+        c: &Component,
+        k: genom_model::component::CodelId,
+        on_path: &mut Vec<genom_model::component::CodelId>,
+        wcet: &dyn Fn(genom_model::component::CodelId) -> u64,
+    ) -> Option<u64> {
+        if on_path.contains(&k) {
+            return None;
+        }
+        on_path.push(k);
+        let mut best = 0u64;
+        for o in c.codels[k].outcomes() {
+            if let Outcome::Codel(next) = o {
+                best = best.max(longest(c, next, on_path, wcet)?);
+            }
+        }
+        on_path.pop();
+        Some(wcet(k).saturating_add(best))
+    }
+    let chain = match svc.start {
+        Some(start) => longest(c, start, &mut Vec::new(), &wcet)?,
+        None => 0,
+    };
+    Some(control.saturating_add(chain))
 }
 
 fn bound(c: &Component, b: &Behaviour, r: &ServiceResponse) -> (Bound, Option<String>) {

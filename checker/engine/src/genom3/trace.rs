@@ -234,6 +234,12 @@ pub fn exceptions(engine: &Engine<'_>, owner: Owner) -> String {
             .map(|x| x.throws.iter().map(|r| r.name.as_str()).collect())
             .unwrap_or_default(),
     };
+    exception_list(&declared)
+}
+
+/// The exceptions a codel of a service or task that declares `declared`
+/// (its `throw`s) may end with: those, or a built-in `genom::` one.
+pub fn exception_list(declared: &[&str]) -> String {
     let mut names: Vec<String> = declared
         .iter()
         .map(|n| format!("`{}`", n.trim_start_matches("::")))

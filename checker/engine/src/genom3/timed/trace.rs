@@ -270,6 +270,19 @@ fn why_waiting(te: &TimedEngine<'_>, st: &TG3State, t: Option<usize>, k: usize) 
     )
 }
 
+/// The exceptions service `sid`'s control codel may throw, named.
+fn thrown(te: &TimedEngine<'_>, sid: Option<genom_model::component::ServiceId>) -> String {
+    let c = te.m().c;
+    let declared: Vec<&str> = sid.map_or_else(Vec::new, |s| {
+        c.services[s]
+            .reports
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect()
+    });
+    crate::genom3::trace::exception_list(&declared)
+}
+
 /// A control codel beginning or ending.
 fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep {
     let m = te.m();
@@ -290,7 +303,8 @@ fn ctl_step(te: &TimedEngine<'_>, before: &TG3State, a: TG3Action) -> TraceStep 
         TG3Action::CtlEnd(false) => (
             Event::CodelEnd,
             format!(
-                "`{name}`'s control codel `{function}` ({codel}) throws: the request ends with that exception"
+                "`{name}`'s control codel `{function}` ({codel}) throws an exception ({}): the request ends with it",
+                thrown(te, sid)
             ),
             Some("exception".to_owned()),
         ),
