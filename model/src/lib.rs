@@ -16,6 +16,7 @@ pub mod diagnostic;
 pub mod dialect;
 pub mod duration;
 pub mod frontend;
+pub mod graph;
 pub mod kinds;
 pub mod limits;
 pub mod loader;

@@ -6,8 +6,10 @@
 use std::collections::BTreeMap;
 
 use genom_model::behaviour::Behaviour;
-use genom_model::component::{Component, ServiceId};
+use genom_model::component::{CodelId, Component, Idx, Outcome, ServiceId};
 use genom_model::duration::format_ns;
+use genom_model::graph::heaviest_path;
+use genom_model::kinds::CodelKind;
 use genom_model::response::{Bound, ResponseTime, sort_response_times};
 use genom_model::{Code, Diagnostic};
 
@@ -73,41 +75,28 @@ pub fn response_times(c: &Component, found: &[ServiceResponse]) -> Vec<ResponseT
 /// (a loop has no longest chain). A worst response above it
 /// is time spent waiting: for locks, for other requests, for ticks.
 pub fn own_time(c: &Component, s: ServiceId) -> Option<u64> {
-    use genom_model::component::Outcome;
-    use genom_model::kinds::CodelKind;
     let svc = &c.services[s];
-    let wcet = |k: genom_model::component::CodelId| c.codels[k].wcet.map_or(0, |d| d.ns);
+    let wcet = |k: CodelId| c.codels[k].wcet.map_or(0, |d| d.ns);
     let control: u64 = svc
         .codels
         .iter()
         .filter(|&&k| c.codels[k].kind == CodelKind::Control)
         .map(|&k| wcet(k))
         .sum();
-    // Longest chain from `start`, by depth-first search with the codels on
-    // the current path: meeting one again is a cycle.
-    fn longest(
-        c: &Component,
-        k: genom_model::component::CodelId,
-        on_path: &mut Vec<genom_model::component::CodelId>,
-        wcet: &dyn Fn(genom_model::component::CodelId) -> u64,
-    ) -> Option<u64> {
-        if on_path.contains(&k) {
-            return None;
-        }
-        on_path.push(k);
-        let mut best = 0u64;
-        for o in c.codels[k].outcomes() {
-            if let Outcome::Codel(next) = o {
-                best = best.max(longest(c, next, on_path, wcet)?);
-            }
-        }
-        on_path.pop();
-        Some(wcet(k).saturating_add(best))
-    }
-    let chain = match svc.start {
-        Some(start) => longest(c, start, &mut Vec::new(), &wcet)?,
-        None => 0,
+    // Longest chain from `start` along the codels' `next`/`yield`s.
+    let next = |k: usize| {
+        c.codels[CodelId::new(k)]
+            .outcomes()
+            .into_iter()
+            .filter_map(|o| match o {
+                Outcome::Codel(next) => Some(next.index()),
+                _ => None,
+            })
+            .collect::<Vec<_>>()
     };
+    let chain = heaviest_path(c.codels.len(), svc.start.map(Idx::index), next, |k| {
+        Some(wcet(CodelId::new(k)))
+    })?;
     Some(control.saturating_add(chain))
 }
 

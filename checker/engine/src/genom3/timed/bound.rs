@@ -25,6 +25,8 @@
 //! nothing before its first tick, at `delay`: its wake-ups are the
 //! periods that follow its ticks.)
 
+use genom_model::graph::heaviest_path;
+
 use super::TimedEngine;
 use super::locks::Locks;
 use crate::genom3::machine::{Machine, Owner, Target};
@@ -101,17 +103,12 @@ fn longest_chain(te: &TimedEngine<'_>, owner: Owner, wait: i64) -> Option<i64> {
         let stop = fsm.stop.map(usize::from).filter(|_| normal[s]);
         yields.chain(stop)
     };
-    // Longest path from each state, by depth-first search (0: not yet,
-    // 1: on the path, 2: done).
-    let mut mark = vec![0u8; n];
-    let mut best = vec![0i64; n];
-    for s in 0..n {
-        visit(s, &next, &mut mark, &mut best, &|k| {
-            let w = te.locks.wcet(owner, k as u8)?;
-            w.checked_add(wait)
-        })?;
-    }
-    best.into_iter().max().or(Some(0))
+    let wait = u64::try_from(wait).ok()?;
+    let cost = |k: usize| {
+        let w = te.locks.wcet(owner, u8::try_from(k).ok()?)?;
+        u64::try_from(w).ok()?.checked_add(wait)
+    };
+    i64::try_from(heaviest_path(n, 0..n, next, cost)?).ok()
 }
 
 /// Per state of `fsm`: whether an instance can be there before its stop
@@ -136,28 +133,4 @@ fn before_stop(fsm: &crate::genom3::machine::Fsm) -> Vec<bool> {
         }));
     }
     seen
-}
-
-/// The depth-first step of [`longest_chain`]: `best[s]` once `s` is done.
-fn visit<I: Iterator<Item = usize>>(
-    s: usize,
-    next: &impl Fn(usize) -> I,
-    mark: &mut [u8],
-    best: &mut [i64],
-    cost: &impl Fn(usize) -> Option<i64>,
-) -> Option<()> {
-    match mark[s] {
-        2 => return Some(()),
-        1 => return None,
-        _ => {}
-    }
-    mark[s] = 1;
-    let mut after = 0i64;
-    for n in next(s) {
-        visit(n, next, mark, best, cost)?;
-        after = after.max(best[n]);
-    }
-    best[s] = cost(s)?.checked_add(after)?;
-    mark[s] = 2;
-    Some(())
 }
