@@ -341,32 +341,36 @@ fn statically_reachable(fsm: &Fsm) -> BTreeSet<u8> {
     seen
 }
 
-/// What an unfinished timed exploration leaves unproven, task by task: a
-/// task whose group was explored to the end is decided (not listed); of the
-/// others, one found overrunning has its traces (other causes may be
-/// missing), and one not found may or may not overrun.
-/// The tasks a finished timed exploration proved never overrun.
-fn proven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<String> {
-    let found: BTreeSet<usize> = timing.overruns.iter().map(|o| o.task).collect();
-    let safe: BTreeSet<usize> = timing
+/// The tasks whose schedulability is decided: those of a group explored
+/// to the end, and those the static bound clears (semantics 15.12), even
+/// in a group whose exploration stopped.
+fn decided_tasks(timing: &TimingAnalysis) -> BTreeSet<usize> {
+    timing
         .records
         .iter()
         .filter(|g| g.complete)
         .flat_map(|g| g.tasks.iter().copied())
-        .filter(|t| !found.contains(t) && m.tasks[*t].period_ns.is_some())
-        .collect();
-    safe.iter()
-        .map(|&t| format!("task `{}` never overruns", m.tasks[t].name))
+        .chain(timing.bounded.iter().copied())
         .collect()
 }
 
+/// The tasks a stopped timed exploration proved never overrun: decided,
+/// periodic, and not found overrunning.
+fn proven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<String> {
+    let found: BTreeSet<usize> = timing.overruns.iter().map(|o| o.task).collect();
+    decided_tasks(timing)
+        .into_iter()
+        .filter(|t| !found.contains(t) && m.tasks[*t].period_ns.is_some())
+        .map(|t| format!("task `{}` never overruns", m.tasks[t].name))
+        .collect()
+}
+
+/// What an unfinished timed exploration leaves unproven, task by task: a
+/// decided task ([`decided_tasks`]) is not listed; of the others, one
+/// found overrunning has its traces (other causes may be missing), and one
+/// not found may or may not overrun.
 fn unproven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> String {
-    let decided: BTreeSet<usize> = timing
-        .records
-        .iter()
-        .filter(|g| g.complete)
-        .flat_map(|g| g.tasks.iter().copied())
-        .collect();
+    let decided = decided_tasks(timing);
     let found: BTreeSet<usize> = timing.overruns.iter().map(|o| o.task).collect();
     let name = |t: &usize| format!("`{}`", m.tasks[*t].name);
     let open: Vec<usize> = (0..m.tasks.len())

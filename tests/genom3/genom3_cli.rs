@@ -745,3 +745,61 @@ fn explain_of_shared_codes_speaks_genom3() {
         assert!(text.contains("pause::"), "{code}: {text}");
     }
 }
+
+#[test]
+fn a_stopped_timed_exploration_counts_the_tasks_the_bound_clears_as_proven() {
+    // `fast` (100 µs, waiting at most one of `slow`'s 3.3 ms codels) is
+    // cleared by the static bound of its wake-up; `slow` (three 3.3 ms
+    // codels in a chain, each possibly behind `fast`'s) is not, and its
+    // exploration stops at the state limit: `fast` is proven, `slow` left
+    // unproven.
+    let dir = tempfile::tempdir().unwrap();
+    let text = "component two {
+  ids { long x; };
+  task fast {
+    period 10 ms;
+    codel<start> f_start(inout x) yield pause::start;
+  };
+  task slow {
+    period 10 ms;
+    codel<start> s_a(inout x) yield b;
+    codel<b> s_b(inout x) yield c;
+    codel<c> s_c(inout x) yield pause::start;
+  };
+};
+";
+    let gen_file = write(dir.path(), "two.gen", text);
+    let wcet = write(
+        dir.path(),
+        "two.wcet",
+        "fast.start 100us\nslow.start 3300us\nslow.b 3300us\nslow.c 3300us\n",
+    );
+    let (_, file) = json(&[
+        "--wcet",
+        wcet.to_str().unwrap(),
+        "--max-states",
+        "20",
+        gen_file.to_str().unwrap(),
+    ]);
+    let decided = file["statistics"]["decided_by"].as_array().unwrap();
+    assert!(
+        decided
+            .iter()
+            .any(|d| d["engine"] == "bound" && d["services"] == serde_json::json!(["task fast"])),
+        "{decided:#?}"
+    );
+    let diagnostics = file["diagnostics"].as_array().unwrap();
+    let help = diagnostics
+        .iter()
+        .find(|d| d["code"] == "incomplete")
+        .and_then(|d| d["help"].as_str())
+        .expect("incomplete");
+    assert!(
+        help.starts_with("left unproven: whether task `slow` can overrun"),
+        "{help}"
+    );
+    assert!(
+        help.contains("Proven: task `fast` never overruns"),
+        "{help}"
+    );
+}
