@@ -140,10 +140,8 @@ pub(crate) fn analyse_timing_early(
         } else {
             vec![false; m.tasks.len()]
         };
-        let periodic = |t: &usize| group.tasks[*t] && m.tasks[*t].period_ns.is_some();
-        out.bounded
-            .extend((0..m.tasks.len()).filter(|t| periodic(t) && safe[*t]));
-        let by_bound = (0..m.tasks.len()).filter(periodic).all(|t| safe[t]);
+        out.bounded.extend(te.periodic_tasks().filter(|&t| safe[t]));
+        let by_bound = te.periodic_tasks().all(|t| safe[t]);
         let (states, complete) = if by_bound {
             (0, true)
         } else {
@@ -204,15 +202,23 @@ fn explore_group(
         }
     });
     let mut first = long;
+    // Paths are found again from the parents (`Exploration::path`): keep
+    // those of the violations kept, not to find them twice.
+    let mut paths: BTreeMap<StateId, Vec<TG3Action>> = BTreeMap::new();
     for (&t, ids) in &other {
         for &id in ids {
-            let cause = cause_on_path(te, &e.path(te, id), t);
-            first.entry((t, cause)).or_insert(id);
+            let path = e.path(te, id);
+            if let std::collections::btree_map::Entry::Vacant(v) =
+                first.entry((t, cause_on_path(te, &path, t)))
+            {
+                v.insert(id);
+                paths.insert(id, path);
+            }
         }
     }
     out.overruns
         .extend(first.iter().map(|(&(task, cause), &id)| {
-            let path = e.path(te, id);
+            let path = paths.remove(&id).unwrap_or_else(|| e.path(te, id));
             let end = e.store_config(te, id);
             let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
             TaskOverrun {
@@ -234,7 +240,7 @@ fn explore_group(
 fn findable_long_codels(te: &TimedEngine<'_>) -> BTreeMap<usize, Vec<Cause>> {
     let m = te.m();
     let mut out = BTreeMap::new();
-    for t in (0..m.tasks.len()).filter(|&t| te.in_group[t] && m.tasks[t].period_ns.is_some()) {
+    for t in te.periodic_tasks() {
         let perm = m.tasks[t].perm.as_ref().map(|_| Who::Perm(t as u8));
         let acts = te.acts_of[t].iter().map(|&a| Who::Act(a as u16));
         let causes = perm

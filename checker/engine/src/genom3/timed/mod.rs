@@ -398,6 +398,12 @@ impl<'a> TimedEngine<'a> {
         self.let_time_pass(self.finish(st))
     }
 
+    /// The periodic tasks of the explored group: those that have ticks,
+    /// hence can overrun.
+    pub fn periodic_tasks(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.e.m.tasks.len()).filter(|&t| self.in_group[t] && self.period[t].is_some())
+    }
+
     /// Whether task `t` runs at all yet (spawned in the boot order).
     pub fn spawned(&self, g: &G3State, t: usize) -> bool {
         g.phase != super::state::Phase::Boot || t <= usize::from(g.booted)
