@@ -384,13 +384,15 @@ fn check_successor<A: Copy, Z: Subsumes>(
 mod tests {
     use super::*;
 
-    /// Two counters modulo 3 and 4: 12 states, reached breadth-first.
-    struct Counters;
+    /// Two counters modulo 3 and 4: 12 states, reached breadth-first; in a
+    /// store that keeps the action reaching each state or not (`KEEP`).
+    struct Counters<const KEEP: bool>;
 
-    impl Model for Counters {
+    impl<const KEEP: bool> Model for Counters<KEEP> {
         type State = (u64, u64);
         type Action = bool;
         type Zone = ();
+        const KEEPS_ACTIONS: bool = KEEP;
         fn width(&self) -> usize {
             2
         }
@@ -419,7 +421,9 @@ mod tests {
     #[test]
     fn explores_everything_and_paths_are_shortest() {
         let mut seen = Vec::new();
-        let e = explore(&Counters, Limits::default(), |id, s| seen.push((id, *s)));
+        let e = explore(&Counters::<true>, Limits::default(), |id, s| {
+            seen.push((id, *s));
+        });
         assert_eq!(e.store.len(), 12);
         assert!(e.stopped.is_none());
         assert_eq!(e.transitions, 24);
@@ -427,50 +431,21 @@ mod tests {
         assert_eq!(e.store.path(far).len(), 4);
     }
 
-    /// [`Counters`] in a store that keeps no actions.
-    struct Forgetful;
-
-    impl Model for Forgetful {
-        type State = (u64, u64);
-        type Action = bool;
-        type Zone = ();
-        const KEEPS_ACTIONS: bool = false;
-        fn width(&self) -> usize {
-            Counters.width()
-        }
-        fn init_states(&self) -> Vec<(u64, u64)> {
-            Counters.init_states()
-        }
-        fn actions(&self, s: &(u64, u64), out: &mut Vec<bool>) {
-            Counters.actions(s, out);
-        }
-        fn next_state(&self, s: &(u64, u64), first: bool) -> Option<(u64, u64)> {
-            Counters.next_state(s, first)
-        }
-        fn encode(&self, s: &(u64, u64), out: &mut Vec<u64>) {
-            Counters.encode(s, out);
-        }
-        fn decode(&self, w: &[u64], (): &()) -> (u64, u64) {
-            Counters.decode(w, &())
-        }
-        fn zone(&self, _: &(u64, u64)) {}
-    }
-
     #[test]
     fn paths_found_again_from_the_parents_are_the_stored_ones() {
-        let kept = explore(&Counters, Limits::default(), |_, _| {});
-        let found = explore(&Forgetful, Limits::default(), |_, _| {});
+        let kept = explore(&Counters::<true>, Limits::default(), |_, _| {});
+        let found = explore(&Counters::<false>, Limits::default(), |_, _| {});
         assert!(!found.store.keeps_actions() && kept.store.keeps_actions());
         assert_eq!(found.store.len(), kept.store.len());
         for id in 0..12 {
-            let path = found.path(&Forgetful, id);
-            assert_eq!(path, kept.path(&Counters, id), "state {id}");
+            let path = found.path(&Counters::<false>, id);
+            assert_eq!(path, kept.path(&Counters::<true>, id), "state {id}");
             assert!(found.store.path(id).is_empty());
             // The path leads to the state.
             let end = path
                 .iter()
-                .fold((0, 0), |s, &a| Counters.next_state(&s, a).unwrap());
-            assert_eq!(end, found.store_config(&Forgetful, id));
+                .fold((0, 0), |s, &a| Counters::<true>.next_state(&s, a).unwrap());
+            assert_eq!(end, found.store_config(&Counters::<false>, id));
         }
         assert!(found.store.bytes() < kept.store.bytes());
     }
@@ -481,7 +456,7 @@ mod tests {
             max_states: 5,
             ..Limits::default()
         };
-        let e = explore(&Counters, limits, |_, _| {});
+        let e = explore(&Counters::<true>, limits, |_, _| {});
         assert_eq!(e.stopped, Some(Stop::States));
         assert!(e.store.len() < 12);
     }

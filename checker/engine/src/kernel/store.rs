@@ -60,7 +60,6 @@ const NONE: StateId = StateId::MAX;
 
 /// The stored states of one exploration.
 pub struct Store<A, Z = ()> {
-    width: usize,
     /// The states' words, each in the bytes its bits need.
     words: Packed,
     /// Per state (chained stores only), side by side so that a walk along a
@@ -87,7 +86,7 @@ impl<A, Z> std::fmt::Debug for Store<A, Z> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Store")
             .field("states", &self.parents.len())
-            .field("width", &self.width)
+            .field("width", &self.words.width())
             .finish()
     }
 }
@@ -96,24 +95,17 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
     /// An empty store of states `width` words wide, with the action that
     /// reached each state.
     pub fn new(width: usize) -> Self {
-        Self::with_actions(width, true)
+        Self::with_layout(width, 64 * width, true)
     }
 
-    /// An empty store of states `width` words wide, keeping the action that
-    /// reached each state or not (then a path is found again from the
-    /// parents by the model: [`super::explore::Exploration::path`]).
-    pub fn with_actions(width: usize, keeps_actions: bool) -> Self {
-        Self::with_layout(width, 64 * width, keeps_actions)
-    }
-
-    /// [`Store::with_actions`] for states that use `bits` bits of their
-    /// words (those past it are zero): each is kept in `bits / 8` bytes,
-    /// rounded up.
+    /// An empty store of states `width` words wide that use `bits` bits of
+    /// their words (those past it are zero: each is kept in `bits / 8`
+    /// bytes, rounded up), keeping the action that reached each state or
+    /// not (then a path is found again from the parents by the model:
+    /// [`super::explore::Exploration::path`]).
     pub fn with_layout(width: usize, bits: usize, keeps_actions: bool) -> Self {
-        let width = width.max(1);
         Store {
-            width,
-            words: Packed::new(width, bits),
+            words: Packed::new(width.max(1), bits),
             chain: Column::new(2),
             pool: Pool::new(),
             covered: Column::new(1),
@@ -136,7 +128,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
 
     /// The words of state `id`.
     pub fn get(&self, id: StateId) -> Vec<u64> {
-        let mut out = Vec::with_capacity(self.width);
+        let mut out = Vec::with_capacity(self.words.width());
         self.load(id, &mut out);
         out
     }
@@ -173,7 +165,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
             self.table.grown((0..).zip(words.map_all(hash)))
         } else {
             let heads: Vec<StateId> = self.table.ids().collect();
-            let mut buf = Vec::with_capacity(self.width);
+            let mut buf = Vec::with_capacity(self.words.width());
             self.table.grown(heads.into_iter().map(|id| {
                 words.load(id as usize, &mut buf);
                 (id, hash(&buf))
@@ -189,7 +181,7 @@ impl<A: Copy, Z: Subsumes> Store<A, Z> {
         zone: Z,
         parent: Option<(StateId, A)>,
     ) -> (StateId, bool) {
-        debug_assert_eq!(key.len(), self.width);
+        debug_assert_eq!(key.len(), self.words.width());
         self.reserve();
         let hash = hash(key);
         let id = StateId::try_from(self.len()).unwrap_or(StateId::MAX);

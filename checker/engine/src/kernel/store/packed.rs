@@ -28,6 +28,11 @@ impl Packed {
         }
     }
 
+    /// Words of an encoded state.
+    pub(super) fn width(&self) -> usize {
+        self.width
+    }
+
     /// Appends a state's words (its bits past the kept bytes are zero).
     pub(super) fn push(&mut self, key: &[u64]) {
         debug_assert_eq!(key.len(), self.width);
