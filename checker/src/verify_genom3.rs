@@ -192,6 +192,10 @@ pub fn verify_genom3(
                 &response_times,
                 &deadlines,
             ));
+            let decided = out.iter().any(|d| d.code == genom_model::Code::Incomplete);
+            if let (Some(stop), false) = (r.stopped, decided) {
+                out.push(response_time::unfinished(c, stop, &response_times, started));
+            }
             states += r.states;
             transitions += r.transitions;
         }

@@ -248,3 +248,32 @@ fn a_validate_that_never_waits_counts_its_wcet() {
         "{trace:#?}"
     );
 }
+
+/// A limit that stops the response-time exploration is `incomplete` (the
+/// run is not fully verified, exit 1) and names the services whose worst
+/// case it left unknown; before, only the table said "exploration
+/// incomplete" and the summary counted it complete.
+#[test]
+fn a_stopped_response_exploration_is_incomplete_and_names_what_it_left() {
+    let r = check_with(
+        "r3_function_lock",
+        &CheckOptions::new().response_times(true).max_states(5),
+    );
+    assert_eq!(worst(&r, "set"), Bound::Unknown);
+    let found: Vec<_> = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::Incomplete)
+        .collect();
+    assert_eq!(found.len(), 1, "{:#?}", r.diagnostics);
+    let help = found[0].help.as_deref().unwrap_or_default();
+    assert!(
+        help.contains("the worst-case response times of `set`, `watch`"),
+        "{help}"
+    );
+    assert!(help.contains("Stopped after"), "{help}");
+    assert!(!r.statistics.as_ref().expect("explored").complete);
+    // With room, no `incomplete`.
+    let full = times("r3_function_lock");
+    assert!(full.diagnostics.iter().all(|d| d.code != Code::Incomplete));
+}

@@ -440,3 +440,51 @@ fn overrun_traces_hold_no_step_of_another_task_that_could_be_folded_out() {
     }
     assert!(others > 0, "some fixture's trace has another task's steps");
 }
+
+/// The timed replay checks that a lock is released: dropping the step
+/// where a codel ends (a task's or the control thread's) from an overrun
+/// trace leaves that codel running, holding its locks past its WCET or
+/// while a codel waiting for it begins, and the replay must refuse it.
+/// Checked one step at a time on every timing fixture that overruns.
+#[test]
+fn an_overrun_trace_without_a_codel_end_is_refused() {
+    let mut names: Vec<String> = std::fs::read_dir(DIR)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            (p.extension()? == "wcet").then(|| p.file_stem()?.to_str().map(str::to_owned))?
+        })
+        .collect();
+    names.sort();
+    let mut dropped = 0;
+    for name in &names {
+        let r = check(name);
+        let c = r.component.as_ref().expect("a component");
+        for d in r
+            .diagnostics
+            .iter()
+            .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
+        {
+            let t = d.trace.as_ref().expect("a trace");
+            assert!(
+                replay_genom3_timed(c, 1, t).is_ok(),
+                "{name}: the trace replays"
+            );
+            for (i, s) in t.steps.iter().enumerate() {
+                if s.event != Event::CodelEnd {
+                    continue;
+                }
+                dropped += 1;
+                let mut cut = t.clone();
+                cut.steps.remove(i);
+                assert!(
+                    replay_genom3_timed(c, 1, &cut).is_err(),
+                    "{name}: the trace without step {} ({}) replays",
+                    i + 1,
+                    s.text
+                );
+            }
+        }
+    }
+    assert!(dropped > 20, "{dropped} codel ends dropped");
+}

@@ -144,6 +144,39 @@ fn watchdog_bound(c: &Component, b: &Behaviour, s: ServiceId) -> Option<u64> {
     Some(max.saturating_add(latency))
 }
 
+/// `incomplete` when a limit stopped the response-time exploration: the
+/// services whose worst case it left unknown, those it decided anyway
+/// (e.g. `unbounded`, from a loop found before the limit), and what it
+/// spent.
+pub fn unfinished(
+    c: &Component,
+    stop: crate::dialect::Stop,
+    times: &[ResponseTime],
+    started: std::time::Instant,
+) -> Diagnostic {
+    let names = |unknown: bool| {
+        times
+            .iter()
+            .filter(|t| matches!(t.worst, Bound::Unknown) == unknown)
+            .map(|t| format!("`{}`", t.service))
+            .collect::<Vec<_>>()
+    };
+    let left = names(true);
+    let what = if left.is_empty() {
+        "nothing".to_owned()
+    } else {
+        format!("the worst-case response times of {}", left.join(", "))
+    };
+    let decided = names(false);
+    let proven: Vec<String> = if decided.is_empty() {
+        Vec::new()
+    } else {
+        vec![format!("the response times of {}", decided.join(", "))]
+    };
+    let spent = format!("{:.1} s", started.elapsed().as_secs_f64());
+    super::incomplete::incomplete_partly(c, stop, &what, &proven, &spent)
+}
+
 /// The `deadline-miss` errors (and `incomplete` when a deadline cannot be
 /// decided) for `deadlines` (nanoseconds by service).
 pub fn check(

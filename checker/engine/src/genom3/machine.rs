@@ -404,7 +404,7 @@ impl<'a> Machine<'a> {
     }
 
     /// Whether activity `a` lists itself in its `interrupts`.
-    fn interrupts_itself(&self, a: usize) -> bool {
+    pub fn interrupts_itself(&self, a: usize) -> bool {
         self.activities[a].interrupts.contains(&a)
     }
 

@@ -133,6 +133,8 @@ struct Interval {
     start: u64,
     end: Option<u64>,
     step: usize,
+    /// The step that ended it.
+    end_step: Option<usize>,
 }
 
 /// The request the control thread handles through its timed codels.
@@ -251,6 +253,7 @@ fn replay(m: &Rules<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> 
             sim.urgent().map_err(at)?;
         }
         sim.missed(time).map_err(at)?;
+        sim.overdue(time).map_err(at)?;
         sim.now = time;
         if step.event == Event::Violation {
             if k + 1 != n || step.thread.is_some() {
@@ -579,24 +582,54 @@ impl<'m, 'c> Sim<'m, 'c> {
     }
 
     /// Every codel that began while a codel of another thread it waits for
-    /// ran (strictly overlapping intervals).
+    /// ran: one begun at an earlier step and not ended at an earlier step
+    /// (so a codel that takes no time is checked too, and a holder whose
+    /// end is missing still holds its locks).
     fn locks(&self) -> Result<(), String> {
-        let end = |r: &Interval| r.end.unwrap_or(self.now);
         for (x, k) in self.runs.iter().enumerate() {
             for j in &self.runs[..x] {
-                if j.thread == k.thread || k.start.max(j.start) >= end(k).min(end(j)) {
+                let ended = j.end_step.is_some_and(|e| e < k.step);
+                if j.thread == k.thread || ended || !self.waits(k.codel, j.codel) {
                     continue;
                 }
-                if self.waits(k.codel, j.codel) {
-                    return Err(format!(
-                        "step {}: the codel begins at {} ns while the codel begun at step {} (which it waits for) runs until {} ns",
-                        k.step + 1,
-                        k.start,
-                        j.step + 1,
-                        end(j)
-                    ));
-                }
+                let until = j
+                    .end
+                    .map_or_else(|| "the end of the trace".to_owned(), |e| format!("{e} ns"));
+                return Err(format!(
+                    "step {}: the codel begins at {} ns while the codel begun at step {} (which it waits for) runs until {until}",
+                    k.step + 1,
+                    k.start,
+                    j.step + 1,
+                ));
             }
+        }
+        Ok(())
+    }
+
+    /// No codel runs longer than its WCET: time may not pass beyond it
+    /// while the codel has not ended (an `async` codel has no bound).
+    fn overdue(&self, time: u64) -> Result<(), String> {
+        for i in &self.insts {
+            let Some(since) = i.busy else { continue };
+            let def = self.fsm_state(i.owner, i.state);
+            let w = def.wcet_ns.unwrap_or(0);
+            if !def.is_async && time - since > w {
+                return Err(format!(
+                    "time passes to {time} ns while codel `{}` (begun at {since} ns) runs past its WCET {w} ns",
+                    def.name
+                ));
+            }
+        }
+        let Some(r) = &self.ctl else { return Ok(()) };
+        let (Some(since), Some(&i)) = (r.since, self.timed_codels(r.service).get(r.next)) else {
+            return Ok(());
+        };
+        let def = self.m.control_codels.get(&r.service).and_then(|v| v.get(i));
+        let w = def.and_then(|d| d.wcet_ns).unwrap_or(0);
+        if time - since > w {
+            return Err(format!(
+                "time passes to {time} ns while the control thread's codel (begun at {since} ns) runs past its WCET {w} ns"
+            ));
         }
         Ok(())
     }

@@ -16,9 +16,9 @@ impl Sim<'_, '_> {
         match s.event {
             Event::WakeUp => self.wake(s, last),
             Event::CodelStart if control => self.ctl_start(s, k),
-            Event::CodelEnd if control => self.ctl_end(s),
+            Event::CodelEnd if control => self.ctl_end(s, k),
             Event::CodelStart => self.codel_start(s, k),
-            Event::CodelEnd => self.codel_end(s),
+            Event::CodelEnd => self.codel_end(s, k),
             Event::LockWait if control => self.ctl_ticket(),
             Event::LockWait => self.ticket(s),
             Event::Request | Event::Accept | Event::Interrupt if !control => {
@@ -231,11 +231,12 @@ impl Sim<'_, '_> {
             start: self.now,
             end: None,
             step: k,
+            end_step: None,
         });
         Ok(())
     }
 
-    fn codel_end(&mut self, s: &TraceStep) -> Result<(), String> {
+    fn codel_end(&mut self, s: &TraceStep, k: usize) -> Result<(), String> {
         let t = self.task_named(s.thread.as_deref())?;
         let p = self.find(s, |i| i.busy.is_some())?;
         let i = self.insts[p].clone();
@@ -254,6 +255,7 @@ impl Sim<'_, '_> {
         }
         if let Some(r) = self.runs.iter_mut().rev().find(|r| r.thread == Some(t)) {
             r.end = Some(self.now);
+            r.end_step = Some(k);
         }
         let text = s.outcome.as_deref().ok_or("the step has no outcome")?;
         let y = parse_yield(self.m, i.owner, def, text)?;
@@ -370,6 +372,7 @@ impl Sim<'_, '_> {
             start: self.now,
             end: None,
             step: k,
+            end_step: None,
         });
         Ok(())
     }
@@ -409,7 +412,7 @@ impl Sim<'_, '_> {
         Ok(())
     }
 
-    fn ctl_end(&mut self, s: &TraceStep) -> Result<(), String> {
+    fn ctl_end(&mut self, s: &TraceStep, k: usize) -> Result<(), String> {
         let r = self
             .ctl
             .clone()
@@ -430,6 +433,7 @@ impl Sim<'_, '_> {
         }
         if let Some(x) = self.runs.iter_mut().rev().find(|x| x.thread.is_none()) {
             x.end = Some(self.now);
+            x.end_step = Some(k);
         }
         self.ctl = None;
         match s.outcome.as_deref() {

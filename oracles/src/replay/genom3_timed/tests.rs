@@ -223,7 +223,7 @@ fn a_codel_beyond_its_wcet_is_rejected() {
     let end = find(&t, Event::CodelEnd, "t", Some("start"));
     t.steps[end].time_ns = Some(7 * MS);
     t.steps[end + 1].time_ns = Some(7 * MS);
-    rejected(&c, 1, &t, "more than its WCET 6000000 ns");
+    rejected(&c, 1, &t, "runs past its WCET 6000000 ns");
 }
 
 #[test]

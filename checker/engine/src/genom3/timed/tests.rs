@@ -345,6 +345,14 @@ fn a_task_the_static_bound_clears_never_overruns() {
         cfg.states = cfg.states.min(3);
         cfg.attributes = cfg.attributes.max(1);
     });
+    // Many `interrupts` (activities that restart themselves or one
+    // another: one instance among them per wake-up).
+    cases.extend(generated_timed(40..60, |_, cfg| {
+        cfg.tasks = cfg.tasks.clamp(2, 3);
+        cfg.activities = cfg.activities.clamp(2, 3);
+        cfg.states = cfg.states.min(3);
+        cfg.density = 3.0;
+    }));
     cases.extend(timing_fixtures());
     let limits = Limits {
         max_states: 60_000,
@@ -382,8 +390,9 @@ fn a_task_the_static_bound_clears_never_overruns() {
             replays(name, c, instances, &bounded);
         }
     }
-    assert!(compared >= 40, "{compared} complete explorations compared");
-    assert!(cleared >= 20, "the bound cleared {cleared} tasks only");
+    assert!(compared >= 60, "{compared} complete explorations compared");
+    assert!(cleared >= 40, "the bound cleared {cleared} tasks only");
+    eprintln!("{compared} complete explorations compared, {cleared} tasks cleared");
 }
 
 #[test]
