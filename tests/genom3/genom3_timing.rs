@@ -488,3 +488,42 @@ fn an_overrun_trace_without_a_codel_end_is_refused() {
     }
     assert!(dropped > 20, "{dropped} codel ends dropped");
 }
+
+/// rmp440 with its WCET file: the whole exploration stops at its limit
+/// before it reaches an overrun of `TrackTask`, and the search with
+/// restricted clients (docs/genom3-semantics.md 15.13) finds one (a
+/// restarting `Track` request's `validate` queued behind `Init`'s codel,
+/// `Track`'s codels behind it): a `thread-overrun` of `TrackTask` whose
+/// trace the independent replay accepts, and the run stays `incomplete`.
+#[test]
+fn a_stopped_exploration_still_finds_rmp440s_track_task_overrun() {
+    let Some(corpus) = common::genom3_corpus() else {
+        eprintln!("SKIPPED: the GenoM3 corpus is absent");
+        return;
+    };
+    let path = corpus.join("infuse_rmp440-genom3/rmp440.gen");
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/rmp440.wcet")),
+        ..Inputs::default()
+    };
+    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(200_000)).unwrap();
+    assert!(
+        r.diagnostics.iter().any(|d| d.code == Code::Incomplete),
+        "the whole exploration stops"
+    );
+    assert!(
+        overrunning(&r).contains(&"TrackTask".to_owned()),
+        "{:#?}",
+        r.diagnostics
+    );
+    let c = r.component.as_ref().expect("a component");
+    for d in r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::ThreadOverrun)
+    {
+        let t = d.trace.as_ref().expect("a trace");
+        replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));
+    }
+}

@@ -77,6 +77,10 @@ pub struct TimingAnalysis {
     pub bounded: Vec<usize>,
     /// What each group's exploration covered, in exploration order.
     pub records: Vec<GroupRecord>,
+    /// Tasks found overrunning only by the search with restricted clients
+    /// after their group's exploration stopped ([`super::hunt`]), in the
+    /// order found.
+    pub hunted: Vec<usize>,
 }
 
 /// One group's exploration ([`super::groups`]).
@@ -145,8 +149,11 @@ pub(crate) fn analyse_timing_early(
         let (states, complete) = if by_bound {
             (0, true)
         } else {
-            explore_group(&te, limits, early, &safe, &mut out)
+            explore_group(&te, reserve(limits, early), early, &safe, &mut out)
         };
+        if early && !complete && out.stopped != Some(Stop::Memory) {
+            hunt_unfound(&te, &group, &safe, limits, &mut out);
+        }
         out.records.push(GroupRecord {
             tasks: (0..group.tasks.len()).filter(|&t| group.tasks[t]).collect(),
             services: m.requested(&group.acts, &group.ctls),
@@ -163,6 +170,46 @@ pub(crate) fn analyse_timing_early(
     out.overruns.sort_by_key(|o| (o.task, o.cause));
     out.bounded.sort_unstable();
     Some(out)
+}
+
+/// The limits of a group's whole exploration when the search of
+/// [`super::hunt`] may follow it: a tenth of the time left is kept for
+/// that search (the state limit holds for each exploration alone).
+fn reserve(limits: Limits, early: bool) -> Limits {
+    let now = std::time::Instant::now();
+    let deadline = limits.deadline.filter(|_| early).map(|d| {
+        d.checked_sub(d.saturating_duration_since(now) / 10)
+            .unwrap_or(d)
+    });
+    Limits {
+        deadline: deadline.or(limits.deadline),
+        ..limits
+    }
+}
+
+/// After a group's exploration stopped: looks for an overrun of each of
+/// its periodic tasks that the bound did not clear and the exploration
+/// did not find overrunning, with restricted clients ([`super::hunt`]).
+fn hunt_unfound(
+    te: &TimedEngine<'_>,
+    group: &super::groups::Group,
+    safe: &[bool],
+    limits: Limits,
+    out: &mut TimingAnalysis,
+) {
+    let found: std::collections::BTreeSet<usize> = out.overruns.iter().map(|o| o.task).collect();
+    let wanted: Vec<usize> = te
+        .periodic_tasks()
+        .filter(|&t| !safe[t] && !found.contains(&t))
+        .collect();
+    if wanted.is_empty() {
+        return;
+    }
+    let h = super::hunt::hunt(te.m(), group, &te.locks, &wanted, limits);
+    out.hunted.extend(h.overruns.iter().map(|o| o.task));
+    out.overruns.extend(h.overruns);
+    out.states += h.states;
+    out.transitions += h.transitions;
 }
 
 /// Explores one group and adds its findings: per task, the first
@@ -277,7 +324,7 @@ fn everything_found(
 }
 
 /// A codel of task `t` longer than its period, still running in `st`.
-fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
+pub(super) fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
     te.instances(&st.g, t)
         .filter(|(_, i)| i.has(mark::BUSY))
         .find_map(|(who, i)| longer_than_period(te.m(), t, who, i.state))
@@ -293,7 +340,7 @@ fn longer_than_period(m: &Machine<'_>, t: usize, who: Who, state: u8) -> Option<
 
 /// The cause of the violation of task `t` that `path` ends with, read off
 /// the steps of the wake-up it overran (those after `t`'s previous tick).
-fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
+pub(super) fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
     let m = te.m();
     let mine = |who: Who| m.task_of(who.owner()) == t;
     let ticks = path
@@ -340,7 +387,7 @@ fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
 }
 
 /// What the tick of task `t` finds unfinished in `st`.
-fn unfinished_text(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> String {
+pub(super) fn unfinished_text(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> String {
     let m = te.m();
     let task = &m.tasks[t];
     let period = format_ns(task.period_ns.unwrap_or(0));

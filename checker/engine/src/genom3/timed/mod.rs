@@ -37,6 +37,7 @@
 pub mod analysis;
 pub mod bound;
 pub mod groups;
+pub mod hunt;
 pub mod locks;
 mod requests;
 pub mod response;

@@ -442,3 +442,53 @@ fn a_request_stands_for_one_with_the_same_locks_and_a_shorter_codel() {
     genom_oracles::replay::genom3_timed::replay_genom3_timed(&c, 1, trace)
         .unwrap_or_else(|e| panic!("{e}\n{trace:#?}"));
 }
+
+#[test]
+fn an_overrun_found_with_a_restricted_client_is_one_of_the_whole_exploration() {
+    // The search with restricted clients (15.13), asked for every periodic
+    // task of every group of generated components: each overrun it finds
+    // is one of the whole exploration, and its trace replays in the
+    // independent oracle. (On the corpus it finds rmp440's `TrackTask`,
+    // tests/genom3/genom3_timing.rs.)
+    let cases = generated_timed(0..50, |_, cfg| {
+        cfg.tasks = cfg.tasks.clamp(2, 3);
+        cfg.activities = cfg.activities.min(3);
+        cfg.states = cfg.states.min(2);
+    });
+    let budget = Limits {
+        max_states: 60_000,
+        ..Limits::default()
+    };
+    let (mut hunted, mut compared) = (0, 0);
+    for (name, c) in &cases {
+        let m = Machine::new(c, 1).expect("GenoM3");
+        let Some(whole) = super::analysis::analyse_timing_early(&m, budget, true, false) else {
+            continue;
+        };
+        if whole.stopped.is_some() {
+            continue;
+        }
+        compared += 1;
+        let locks = super::locks::Locks::new(&m, super::unit_ns(&m));
+        let mut found = TimingAnalysis::default();
+        for group in super::groups::groups(&m, &locks) {
+            let periodic: Vec<usize> = (0..m.tasks.len())
+                .filter(|&t| group.tasks[t] && m.tasks[t].period_ns.is_some())
+                .collect();
+            let h = super::hunt::hunt(&m, &group, &locks, &periodic, budget);
+            found.overruns.extend(h.overruns);
+        }
+        for o in &found.overruns {
+            hunted += 1;
+            assert!(
+                whole.overruns.iter().any(|w| w.task == o.task),
+                "{name}: task {} found overrunning by the search only",
+                m.tasks[o.task].name
+            );
+        }
+        replays(name, c, 1, &found);
+    }
+    assert!(compared >= 20, "{compared} whole explorations compared");
+    assert!(hunted >= 10, "the search found {hunted} overruns only");
+    eprintln!("{compared} whole explorations, {hunted} overruns found by the search");
+}

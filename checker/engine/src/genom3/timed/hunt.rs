@@ -1,0 +1,160 @@
+//! Looking for the overruns a stopped exploration did not reach
+//! (docs/genom3-semantics.md 15.13). When a group's exploration stops at a
+//! limit with a periodic task neither cleared by the static bound nor
+//! found overrunning, the group is explored again for a client that sends
+//! requests of one or two services only: the empty client first, then one
+//! service at a time, then pairs (an activity of a task looked for with
+//! one other service). Every run of such a client is a run of the
+//! component (a client may leave any service unrequested), so an overrun
+//! found there is real, with a trace that replays; the search proves
+//! nothing else, and the group stays unfinished. Its explorations are
+//! small: each within a tenth of the state limit, all within the limit.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
+
+use genom_model::trace::{Event, TraceStep};
+
+use super::analysis::{TaskOverrun, cause_on_path, long_codel, unfinished_text};
+use super::groups::Group;
+use super::locks::Locks;
+use super::trace::timed_trace;
+use super::{TG3State, TimedEngine};
+use crate::genom3::machine::Machine;
+use crate::kernel::explore::{Found, Limits, explore_until};
+use crate::kernel::store::StateId;
+
+/// What the search found and spent.
+#[derive(Debug, Default)]
+pub struct Hunted {
+    /// One overrun (its first cause found) per task found.
+    pub overruns: Vec<TaskOverrun>,
+    /// States stored, over all its explorations.
+    pub states: u64,
+    /// Transitions fired.
+    pub transitions: u64,
+}
+
+/// A service a restricted client may request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Service {
+    Activity(usize),
+    Control(usize),
+}
+
+/// Looks for an overrun of each task of `wanted` (periodic tasks of
+/// `group`) with restricted clients, within `limits`.
+pub fn hunt(
+    m: &Machine<'_>,
+    group: &Group,
+    locks: &Locks,
+    wanted: &[usize],
+    limits: Limits,
+) -> Hunted {
+    let mut left: BTreeSet<usize> = wanted.iter().copied().collect();
+    let mut out = Hunted::default();
+    let each = (limits.max_states / 10).max(1);
+    for client in clients(m, group, &left) {
+        let spent = usize::try_from(out.states).unwrap_or(usize::MAX);
+        let late = limits.deadline.is_some_and(|d| Instant::now() >= d);
+        if left.is_empty() || spent >= limits.max_states || late {
+            break;
+        }
+        let sub = restricted(group, &client);
+        let Some(mut te) = TimedEngine::with_locks(m.clone(), &sub, locks.clone()) else {
+            continue;
+        };
+        te.dominate_calls();
+        let budget = Limits {
+            max_states: each.min(limits.max_states - spent),
+            ..limits
+        };
+        for o in explore_for(&te, budget, &left, &mut out) {
+            left.remove(&o.task);
+            out.overruns.push(o);
+        }
+    }
+    out
+}
+
+/// Explores `te` until each task of `left` has overrun (or the limits),
+/// and returns the first overrun of each, breadth-first.
+fn explore_for(
+    te: &TimedEngine<'_>,
+    limits: Limits,
+    left: &BTreeSet<usize>,
+    out: &mut Hunted,
+) -> Vec<TaskOverrun> {
+    let mut first: BTreeMap<usize, StateId> = BTreeMap::new();
+    let e = explore_until(te, limits, |id, st: &TG3State| {
+        if let Some(t) = st.violation.map(usize::from).filter(|t| left.contains(t)) {
+            first.entry(t).or_insert(id);
+        }
+        if left.iter().all(|t| first.contains_key(t)) {
+            Found::All
+        } else {
+            Found::Open
+        }
+    });
+    out.states += e.store.len() as u64;
+    out.transitions += e.transitions;
+    first
+        .into_iter()
+        .map(|(task, id)| {
+            let end = e.store_config(te, id);
+            let path = e.path(te, id);
+            let cause =
+                long_codel(te, &end, task).unwrap_or_else(|| cause_on_path(te, &path, task));
+            let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
+            TaskOverrun {
+                task,
+                cause,
+                trace: timed_trace(te, &path, last),
+            }
+        })
+        .collect()
+}
+
+/// The restricted clients, in the order they are tried: no request, each
+/// service alone, then each activity of a task of `wanted` with each
+/// other service (every pair when no such activity exists).
+fn clients(m: &Machine<'_>, group: &Group, wanted: &BTreeSet<usize>) -> Vec<Vec<Service>> {
+    let acts = (0..group.acts.len())
+        .filter(|&a| group.acts[a] && !m.is_builtin(m.activities[a].service))
+        .map(Service::Activity);
+    let ctls = (0..group.ctls.len())
+        .filter(|&k| group.ctls[k] && !m.controls[k].builtin)
+        .map(Service::Control);
+    let all: Vec<Service> = acts.chain(ctls).collect();
+    let key = |s: &Service| match *s {
+        Service::Activity(a) => wanted.contains(&m.activities[a].task),
+        Service::Control(_) => false,
+    };
+    let mut out: Vec<Vec<Service>> = vec![Vec::new()];
+    out.extend(all.iter().map(|&s| vec![s]));
+    let any_key = all.iter().any(key);
+    for (i, &s) in all.iter().enumerate() {
+        for &r in &all[i + 1..] {
+            if !any_key || key(&s) || key(&r) {
+                out.push(vec![s, r]);
+            }
+        }
+    }
+    out
+}
+
+/// `group` with only `client`'s services requested.
+fn restricted(group: &Group, client: &[Service]) -> Group {
+    let mut g = Group {
+        tasks: group.tasks.clone(),
+        acts: vec![false; group.acts.len()],
+        ctls: vec![false; group.ctls.len()],
+    };
+    for s in client {
+        match *s {
+            Service::Activity(a) => g.acts[a] = true,
+            Service::Control(k) => g.ctls[k] = true,
+        }
+    }
+    g
+}
