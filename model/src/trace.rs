@@ -110,4 +110,19 @@ pub struct Trace {
     pub steps: Vec<TraceStep>,
     /// Where the repeating cycle starts, for lasso-shaped traces.
     pub loop_start: Option<usize>,
+    /// Threads that play no part in the finding: no codel of the threads
+    /// it involves waited for theirs, nor behind their tickets. Their
+    /// steps stay in the trace (a replay needs their ticks and codels) and
+    /// are folded in human output.
+    pub aside: Vec<String>,
+}
+
+impl Trace {
+    /// Whether step `k` is one of a thread set [`Trace::aside`].
+    pub fn is_aside(&self, k: usize) -> bool {
+        self.steps
+            .get(k)
+            .and_then(|s| s.thread.as_ref())
+            .is_some_and(|t| self.aside.contains(t))
+    }
 }

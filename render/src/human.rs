@@ -124,7 +124,11 @@ fn plural(n: usize, word: &str) -> String {
 /// trace also gets a timeline per thread.
 pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
     let mut out = String::from("  trace:\n");
+    out.push_str(&aside_note(trace).unwrap_or_default());
     for (i, step) in trace.steps.iter().enumerate() {
+        if trace.is_aside(i) {
+            continue;
+        }
         if trace.loop_start == Some(i) {
             out.push_str("      -- the following steps repeat forever --\n");
         }
@@ -142,6 +146,25 @@ pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
     out
 }
 
+/// The line saying which threads' steps a trace leaves out
+/// ([`Trace::aside`]), if any.
+fn aside_note(trace: &Trace) -> Option<String> {
+    let shown: Vec<String> = trace
+        .aside
+        .iter()
+        .filter(|t| trace.steps.iter().any(|s| s.thread.as_ref() == Some(*t)))
+        .map(|t| format!("`{t}`"))
+        .collect();
+    if shown.is_empty() {
+        return None;
+    }
+    let s = if shown.len() == 1 { "" } else { "s" };
+    Some(format!(
+        "        (the steps of task{s} {}, which play no part in this finding, are left out; `--format json` lists every step)\n",
+        shown.join(", ")
+    ))
+}
+
 /// One line per thread: its wake-ups (`|`) and codel executions with their
 /// start and end instants; the control thread's requests.
 pub fn render_timeline(trace: &Trace) -> String {
@@ -151,6 +174,9 @@ pub fn render_timeline(trace: &Trace) -> String {
         let (Some(thread), Some(t)) = (&step.thread, step.time_ns) else {
             continue;
         };
+        if trace.aside.contains(thread) {
+            continue;
+        }
         let item = match step.event {
             Event::WakeUp => Some(format!("|{}", format_instant(t))),
             Event::CodelStart => {

@@ -527,3 +527,90 @@ fn a_stopped_exploration_still_finds_rmp440s_track_task_overrun() {
         replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));
     }
 }
+
+/// Issue 32, traces: an overrun trace sets aside the tasks that play no
+/// part in it (none of the threads involved waited for their codels or
+/// behind their tickets), and the independent replay checks that claim at
+/// every ticket; setting aside a task that does play a part is refused.
+/// On T265, `pose_port_refresh` plays no part in `apriltag_detection`'s
+/// overrun: the human report leaves its steps out and says so.
+#[test]
+fn overrun_traces_set_aside_the_tasks_that_play_no_part() {
+    let Some(corpus) = common::genom3_corpus() else {
+        eprintln!("SKIPPED: the GenoM3 corpus is absent");
+        return;
+    };
+    let path = corpus.join("T265-genom3/T265.gen");
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/T265.wcet")),
+        ..Inputs::default()
+    };
+    let r = check_path(&path, &inputs, &CheckOptions::new()).unwrap();
+    let c = r.component.as_ref().expect("a component");
+    let (mut set_aside, mut refused) = (0, 0);
+    for d in r
+        .diagnostics
+        .iter()
+        .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
+    {
+        let t = d.trace.as_ref().expect("a trace");
+        replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));
+        set_aside += t.aside.len();
+        // Every other task of the trace, set aside too, is refused unless
+        // it plays no part either.
+        for task in ["pose_port_refresh", "apriltag_detection", "image_display"] {
+            if t.aside.iter().any(|a| a == task) {
+                continue;
+            }
+            let mut more = t.clone();
+            more.aside.push(task.to_owned());
+            if replay_genom3_timed(c, 1, &more).is_err() {
+                refused += 1;
+            }
+        }
+    }
+    assert!(set_aside >= 3, "{set_aside} tasks set aside");
+    assert!(refused >= 3, "{refused} wrong claims refused");
+    let apriltag = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::ThreadOverrun && d.message.contains("`apriltag_detection`"))
+        .and_then(|d| d.trace.as_ref())
+        .expect("apriltag_detection overruns");
+    assert_eq!(apriltag.aside, ["pose_port_refresh"]);
+    // The human report: no step of `pose_port_refresh` under that finding.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_genom-check"))
+        .args([
+            "-I",
+            "tests/fixtures/genom3/include",
+            "--wcet",
+            "tests/fixtures/genom3/wcet/T265.wcet",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let section = text
+        .split("  × ")
+        .find(|s| s.starts_with("task `apriltag_detection` can overrun"))
+        .expect("the finding in the report");
+    let steps: Vec<&str> = section
+        .lines()
+        .filter(|l| {
+            l.trim_start()
+                .split('.')
+                .next()
+                .is_some_and(|n| n.parse::<u32>().is_ok())
+        })
+        .collect();
+    assert!(steps.len() >= 8, "{section}");
+    assert!(
+        steps.iter().all(|l| !l.contains("pose_port_refresh")),
+        "{section}"
+    );
+    assert!(
+        section.contains("the steps of task `pose_port_refresh`, which play no part"),
+        "{section}"
+    );
+}

@@ -57,7 +57,11 @@ pub(crate) fn replay(
         }
     }
     steps.push(last);
-    Trace { steps, loop_start }
+    Trace {
+        steps,
+        loop_start,
+        aside: Vec::new(),
+    }
 }
 
 /// Whether `actions` can be applied one after the other from `cfg`.

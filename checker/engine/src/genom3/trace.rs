@@ -43,6 +43,7 @@ pub fn render(engine: &Engine<'_>, path: &[G3Action]) -> Trace {
     Trace {
         steps,
         loop_start: None,
+        aside: Vec::new(),
     }
 }
 

@@ -170,7 +170,11 @@ fn instants(
         .map(|&(_, first)| first);
     let Some((values, scale)) = zone.pick() else {
         steps.push(last);
-        return Trace { steps, loop_start };
+        return Trace {
+            steps,
+            loop_start,
+            aside: Vec::new(),
+        };
     };
     let now = values[base];
     let to_ns = |units_scaled: i64| {
@@ -188,7 +192,11 @@ fn instants(
     }
     last.time_ns = Some(to_ns(now));
     steps.push(last);
-    Trace { steps, loop_start }
+    Trace {
+        steps,
+        loop_start,
+        aside: Vec::new(),
+    }
 }
 
 /// The valuations reached by letting time pass after `st` while ignoring

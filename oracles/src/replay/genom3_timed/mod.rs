@@ -241,6 +241,7 @@ fn replay(m: &Rules<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> 
     let scope = Sim::new(m, named).closure();
     let mut sim = Sim::new(m, scope);
     sim.coalesce = !overrun;
+    let aside = aside_tasks(m, trace)?;
     for (k, step) in steps.iter().enumerate().skip(1) {
         let at = |e: String| format!("step {} ({}): {e}", k + 1, step.event.as_str());
         let time = step
@@ -262,6 +263,10 @@ fn replay(m: &Rules<'_>, trace: &Trace, overrun: bool) -> Result<Ended, String> 
             continue;
         }
         sim.step(step, k, overrun && k + 2 == n).map_err(at)?;
+        if step.event == Event::LockWait {
+            sim.nothing_aside_ahead(&aside, step.thread.as_deref())
+                .map_err(at)?;
+        }
         sim.finish();
     }
     sim.locks()?;
@@ -630,6 +635,55 @@ impl<'m, 'c> Sim<'m, 'c> {
             return Err(format!(
                 "time passes to {time} ns while the control thread's codel (begun at {since} ns) runs past its WCET {w} ns"
             ));
+        }
+        Ok(())
+    }
+}
+
+/// The tasks `trace` sets aside as playing no part in its finding
+/// ([`Trace::aside`]): known tasks, and not the one whose tick ends it.
+fn aside_tasks(m: &Rules<'_>, trace: &Trace) -> Result<Vec<usize>, String> {
+    let last = trace.steps.iter().rev().find_map(|s| s.thread.as_deref());
+    trace
+        .aside
+        .iter()
+        .map(|name| {
+            if Some(name.as_str()) == last {
+                return Err(format!("the overrunning task `{name}` is set aside"));
+            }
+            m.tasks
+                .iter()
+                .position(|t| &t.name == name)
+                .ok_or_else(|| format!("no task `{name}` to set aside"))
+        })
+        .collect()
+}
+
+impl Sim<'_, '_> {
+    /// A thread that plays a part (not in `aside`) took a ticket: no task
+    /// set aside runs a codel or holds a ticket ahead of it, since from
+    /// then on only those could delay it (docs/genom3-semantics.md 15.12).
+    fn nothing_aside_ahead(&self, aside: &[usize], thread: Option<&str>) -> Result<(), String> {
+        let who = match thread {
+            Some("control") | None => None,
+            Some(name) => self.m.tasks.iter().position(|t| t.name == name),
+        };
+        if who.is_some_and(|t| aside.contains(&t)) {
+            return Ok(());
+        }
+        let ahead: Vec<Option<usize>> = self
+            .queue
+            .iter()
+            .copied()
+            .take_while(|&u| u != who)
+            .collect();
+        for &a in aside {
+            if self.running(a).is_some() || ahead.contains(&Some(a)) {
+                return Err(format!(
+                    "task `{}`, set aside as playing no part, runs a codel or holds a ticket ahead when a thread that plays a part takes its ticket",
+                    self.m.tasks[a].name
+                ));
+            }
         }
         Ok(())
     }

@@ -267,11 +267,10 @@ fn explore_group(
         .extend(first.iter().map(|(&(task, cause), &id)| {
             let path = paths.remove(&id).unwrap_or_else(|| e.path(te, id));
             let end = e.store_config(te, id);
-            let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
             TaskOverrun {
                 task,
                 cause,
-                trace: timed_trace(te, &path, last),
+                trace: overrun_trace(te, &path, &end, task),
             }
         }));
     out.states += e.store.len() as u64;
@@ -279,6 +278,20 @@ fn explore_group(
     out.footprint.add(&e.store);
     out.stopped = out.stopped.or(e.stopped);
     (e.store.len() as u64, e.stopped.is_none())
+}
+
+/// The trace of `path`, which ends in `end` with task `task`'s overrun;
+/// the threads that play no part in it set aside ([`super::aside`]).
+pub(super) fn overrun_trace(
+    te: &TimedEngine<'_>,
+    path: &[TG3Action],
+    end: &TG3State,
+    task: usize,
+) -> Trace {
+    let last = TraceStep::new(Event::Violation, unfinished_text(te, end, task));
+    let mut trace = timed_trace(te, path, last);
+    super::aside::set_aside(te, path, task, &mut trace);
+    trace
 }
 
 /// Per periodic task of the group explored, the long-codel causes a

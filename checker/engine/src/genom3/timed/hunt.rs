@@ -13,12 +13,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
-use genom_model::trace::{Event, TraceStep};
-
-use super::analysis::{TaskOverrun, cause_on_path, long_codel, unfinished_text};
+use super::analysis::{TaskOverrun, cause_on_path, long_codel, overrun_trace};
 use super::groups::Group;
 use super::locks::Locks;
-use super::trace::timed_trace;
 use super::{TG3State, TimedEngine};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, explore_until};
@@ -105,11 +102,10 @@ fn explore_for(
             let path = e.path(te, id);
             let cause =
                 long_codel(te, &end, task).unwrap_or_else(|| cause_on_path(te, &path, task));
-            let last = TraceStep::new(Event::Violation, unfinished_text(te, &end, task));
             TaskOverrun {
                 task,
                 cause,
-                trace: timed_trace(te, &path, last),
+                trace: overrun_trace(te, &path, &end, task),
             }
         })
         .collect()

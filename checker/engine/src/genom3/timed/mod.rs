@@ -35,6 +35,7 @@
 //! since its running codel began.
 
 pub mod analysis;
+pub mod aside;
 pub mod bound;
 pub mod groups;
 pub mod hunt;

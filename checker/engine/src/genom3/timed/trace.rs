@@ -37,29 +37,22 @@ pub fn timed_trace_beyond(
     beyond: Option<(usize, i64, bool)>,
 ) -> Trace {
     let base = te.clock_count();
-    let mut st = te.start(1 + path.len());
     let mut steps = vec![TraceStep::new(
         Event::ComponentStart,
         "the component starts; periodic tasks wake at their ticks, the first at their `delay`",
     )];
     // Per step, the action it belongs to (its instant); 0: the start.
     let mut marks = vec![0usize];
-    for (k, &a) in path.iter().enumerate() {
-        let Some(mut next) = te.fire(&st, a) else {
-            break;
-        };
-        te.follow_responses(&st, &mut next);
-        next.zone.reset(base + 2 + k);
-        let next = te.let_time_pass(next);
-        for step in render(te, &st, &next, a) {
+    let mut st = walk(te, path, |k, before, after, a| {
+        for step in render(te, before, after, a) {
             marks.push(k + 1);
             steps.push(step);
         }
-        st = next;
-    }
+    });
     let mut trace = Trace {
         steps,
         loop_start: None,
+        aside: Vec::new(),
     };
     if let Some((x, c, strict)) = beyond {
         let b = if strict { lt(-c) } else { le(-(c + 1)) };
@@ -85,6 +78,30 @@ pub fn timed_trace_beyond(
     last.time_ns = Some(to_ns(now));
     trace.steps.push(last);
     trace
+}
+
+/// Fires `path` again without extrapolation, with the absolute clock and
+/// one snapshot clock per step (see the module doc), calling `visit` with
+/// each step's index, the states before and after it, and its action;
+/// returns the last state reached.
+pub(super) fn walk(
+    te: &TimedEngine<'_>,
+    path: &[TG3Action],
+    mut visit: impl FnMut(usize, &TG3State, &TG3State, TG3Action),
+) -> TG3State {
+    let base = te.clock_count();
+    let mut st = te.start(1 + path.len());
+    for (k, &a) in path.iter().enumerate() {
+        let Some(mut next) = te.fire(&st, a) else {
+            break;
+        };
+        te.follow_responses(&st, &mut next);
+        next.zone.reset(base + 2 + k);
+        let next = te.let_time_pass(next);
+        visit(k, &st, &next, a);
+        st = next;
+    }
+    st
 }
 
 /// The steps of action `a` from `before` to `after`: one, or for a request

@@ -1,0 +1,72 @@
+//! The threads an overrun trace shows that play no part in the overrun
+//! ([`genom_model::trace::Trace::aside`]). A thread plays a part when it
+//! is the overrunning task or the control thread (which takes the
+//! requests), or when a thread that plays a part took a ticket while it
+//! ran a codel or held a ticket ahead: from a ticket on, only those codels
+//! begin before the waiting one (docs/genom3-semantics.md 15.12), so no
+//! other thread's codel can delay it. The others' steps stay in the trace
+//! (the replay needs their ticks) and are folded in human output.
+
+use std::collections::BTreeSet;
+
+use genom_model::trace::Trace;
+
+use super::trace::walk;
+use super::{CTL, TG3Action, TG3State, TimedEngine};
+
+/// A thread: a task, or `None` for the control thread.
+type Thread = Option<usize>;
+
+/// Sets `trace.aside` for the overrun of task `task` that `path` reaches.
+pub fn set_aside(te: &TimedEngine<'_>, path: &[TG3Action], task: usize, trace: &mut Trace) {
+    let mut waits: Vec<(Thread, Vec<Thread>)> = Vec::new();
+    walk(te, path, |_, before, after, _| {
+        for &u in after.queue.iter().filter(|u| !before.queue.contains(u)) {
+            let who = thread_of(u);
+            waits.push((who, blockers(te, after, who)));
+        }
+    });
+    let mut part: BTreeSet<Thread> = [Some(task), None].into_iter().collect();
+    let mut grown = true;
+    while grown {
+        grown = false;
+        for (who, by) in &waits {
+            if part.contains(who) {
+                for b in by {
+                    grown |= part.insert(*b);
+                }
+            }
+        }
+    }
+    let m = te.m();
+    trace.aside = (0..m.tasks.len())
+        .filter(|&t| te.in_group[t] && !part.contains(&Some(t)))
+        .map(|t| m.tasks[t].name.clone())
+        .filter(|name| trace.steps.iter().any(|s| s.thread.as_ref() == Some(name)))
+        .collect();
+}
+
+/// The thread of a queue entry.
+fn thread_of(u: u8) -> Thread {
+    (u != CTL).then_some(usize::from(u))
+}
+
+/// The threads that may delay `who`'s ticket in `st`: those running a
+/// codel, and those queued ahead of it.
+fn blockers(te: &TimedEngine<'_>, st: &TG3State, who: Thread) -> Vec<Thread> {
+    let m = te.m();
+    let mut out: Vec<Thread> = (0..m.tasks.len())
+        .filter(|&t| Some(t) != who && te.running(&st.g, t).is_some())
+        .map(Some)
+        .collect();
+    if who.is_some() && st.ctl.is_some_and(|c| c.running) {
+        out.push(None);
+    }
+    out.extend(
+        st.queue
+            .iter()
+            .map(|&u| thread_of(u))
+            .take_while(|&u| u != who),
+    );
+    out
+}
