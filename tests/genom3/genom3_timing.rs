@@ -377,6 +377,36 @@ fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
     }
 }
 
+/// Every overrun trace (`thread-overrun`, `codel-overrun`) of the timing
+/// fixtures, with its fixture's name and component.
+fn fixture_overrun_traces() -> Vec<(
+    String,
+    genom_model::component::Component,
+    genom_model::trace::Trace,
+)> {
+    let mut names: Vec<String> = std::fs::read_dir(DIR)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            (p.extension()? == "wcet").then(|| p.file_stem()?.to_str().map(str::to_owned))?
+        })
+        .collect();
+    names.sort();
+    let mut out = Vec::new();
+    for name in names {
+        let r = check(&name);
+        let c = r.component.clone().expect("a component");
+        for d in r
+            .diagnostics
+            .iter()
+            .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
+        {
+            out.push((name.clone(), c.clone(), d.trace.clone().expect("a trace")));
+        }
+    }
+    out
+}
+
 /// Issue 32, traces: an overrun's witness holds no step that could be
 /// folded out. Every step of a task other than the overrunning one (and
 /// the control thread, which takes the requests, and the tasks a
@@ -387,55 +417,38 @@ fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
 /// time on every timing fixture that overruns.
 #[test]
 fn overrun_traces_hold_no_step_of_another_task_that_could_be_folded_out() {
-    let mut names: Vec<String> = std::fs::read_dir(DIR)
-        .unwrap()
-        .filter_map(|e| {
-            let p = e.ok()?.path();
-            (p.extension()? == "wcet").then(|| p.file_stem()?.to_str().map(str::to_owned))?
-        })
-        .collect();
-    names.sort();
     let mut others = 0;
-    for name in &names {
-        let r = check(name);
-        let c = r.component.as_ref().expect("a component");
-        for d in r
-            .diagnostics
+    for (name, c, t) in &fixture_overrun_traces() {
+        let overrunning = t
+            .steps
             .iter()
-            .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
-        {
-            let t = d.trace.as_ref().expect("a trace");
-            let overrunning = t
-                .steps
-                .iter()
-                .rev()
-                .find_map(|s| s.thread.clone())
-                .expect("a task's step");
-            // The tasks a `lock-wait` step names hold the lock waited for:
-            // they are part of the finding.
-            let holders: Vec<&str> = t
-                .steps
-                .iter()
-                .filter(|s| s.event == Event::LockWait)
-                .flat_map(|s| s.text.split("task `").skip(1))
-                .filter_map(|rest| rest.split('`').next())
-                .collect();
-            for (i, s) in t.steps.iter().enumerate() {
-                let Some(thread) = s.thread.as_deref() else {
-                    continue;
-                };
-                if thread == overrunning || thread == "control" || holders.contains(&thread) {
-                    continue;
-                }
-                others += 1;
-                let mut folded = t.clone();
-                folded.steps.remove(i);
-                assert!(
-                    replay_genom3_timed(c, 1, &folded).is_err(),
-                    "{name}: step {} of task `{thread}` could be folded out of\n{t:#?}",
-                    i + 1
-                );
+            .rev()
+            .find_map(|s| s.thread.clone())
+            .expect("a task's step");
+        // The tasks a `lock-wait` step names hold the lock waited for:
+        // they are part of the finding.
+        let holders: Vec<&str> = t
+            .steps
+            .iter()
+            .filter(|s| s.event == Event::LockWait)
+            .flat_map(|s| s.text.split("task `").skip(1))
+            .filter_map(|rest| rest.split('`').next())
+            .collect();
+        for (i, s) in t.steps.iter().enumerate() {
+            let Some(thread) = s.thread.as_deref() else {
+                continue;
+            };
+            if thread == overrunning || thread == "control" || holders.contains(&thread) {
+                continue;
             }
+            others += 1;
+            let mut folded = t.clone();
+            folded.steps.remove(i);
+            assert!(
+                replay_genom3_timed(c, 1, &folded).is_err(),
+                "{name}: step {} of task `{thread}` could be folded out of\n{t:#?}",
+                i + 1
+            );
         }
     }
     assert!(others > 0, "some fixture's trace has another task's steps");
@@ -448,42 +461,25 @@ fn overrun_traces_hold_no_step_of_another_task_that_could_be_folded_out() {
 /// Checked one step at a time on every timing fixture that overruns.
 #[test]
 fn an_overrun_trace_without_a_codel_end_is_refused() {
-    let mut names: Vec<String> = std::fs::read_dir(DIR)
-        .unwrap()
-        .filter_map(|e| {
-            let p = e.ok()?.path();
-            (p.extension()? == "wcet").then(|| p.file_stem()?.to_str().map(str::to_owned))?
-        })
-        .collect();
-    names.sort();
     let mut dropped = 0;
-    for name in &names {
-        let r = check(name);
-        let c = r.component.as_ref().expect("a component");
-        for d in r
-            .diagnostics
-            .iter()
-            .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
-        {
-            let t = d.trace.as_ref().expect("a trace");
-            assert!(
-                replay_genom3_timed(c, 1, t).is_ok(),
-                "{name}: the trace replays"
-            );
-            for (i, s) in t.steps.iter().enumerate() {
-                if s.event != Event::CodelEnd {
-                    continue;
-                }
-                dropped += 1;
-                let mut cut = t.clone();
-                cut.steps.remove(i);
-                assert!(
-                    replay_genom3_timed(c, 1, &cut).is_err(),
-                    "{name}: the trace without step {} ({}) replays",
-                    i + 1,
-                    s.text
-                );
+    for (name, c, t) in &fixture_overrun_traces() {
+        assert!(
+            replay_genom3_timed(c, 1, t).is_ok(),
+            "{name}: the trace replays"
+        );
+        for (i, s) in t.steps.iter().enumerate() {
+            if s.event != Event::CodelEnd {
+                continue;
             }
+            dropped += 1;
+            let mut cut = t.clone();
+            cut.steps.remove(i);
+            assert!(
+                replay_genom3_timed(c, 1, &cut).is_err(),
+                "{name}: the trace without step {} ({}) replays",
+                i + 1,
+                s.text
+            );
         }
     }
     assert!(dropped > 20, "{dropped} codel ends dropped");
