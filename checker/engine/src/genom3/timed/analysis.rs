@@ -7,48 +7,14 @@
 
 use std::collections::BTreeMap;
 
-use genom_model::duration::format_ns;
-use genom_model::trace::{Event, Trace, TraceStep};
-
 use super::groups::groups;
 use super::locks::Locks;
-use super::trace::timed_trace;
+pub use super::overrun::{Cause, TaskOverrun};
+use super::overrun::{cause_on_path, long_codel, longer_than_period, overrun_trace};
 use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
-use crate::genom3::machine::{Machine, Owner, Target};
-use crate::genom3::state::{Inst, mark};
-use crate::genom3::trace::describe;
+use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, Stop, explore_until};
 use crate::kernel::store::{Footprint, StateId};
-
-/// A task that can overrun for one cause, with its trace.
-#[derive(Debug, Clone)]
-pub struct TaskOverrun {
-    /// Index of the task in [`Machine::tasks`].
-    pub task: usize,
-    /// What made the tick find the work unfinished.
-    pub cause: Cause,
-    /// The trace, ending at the tick that finds work unfinished.
-    pub trace: Trace,
-}
-
-/// Why a task's tick finds the work of its previous wake-up unfinished.
-/// Each cause is reported with its own trace, so that one does not hide
-/// another.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Cause {
-    /// A codel (its owner's machine, its state) whose WCET is longer than
-    /// the period still runs: the codel alone overruns (`codel-overrun`).
-    LongCodel(Owner, u8),
-    /// A codel of the task took a ticket in GenoM3's resource FIFO in that
-    /// wake-up: it waited for a lock.
-    LockWait,
-    /// An instance ran several codels joined without `pause::` in that
-    /// wake-up.
-    Chain,
-    /// The codels of several instances (the permanent activity's included)
-    /// shared the wake-up.
-    Shared,
-}
 
 /// Violations of one task examined for their cause, at most (breadth
 /// first, so the shortest come first); the long-codel cause is read off
@@ -280,20 +246,6 @@ fn explore_group(
     (e.store.len() as u64, e.stopped.is_none())
 }
 
-/// The trace of `path`, which ends in `end` with task `task`'s overrun;
-/// the threads that play no part in it set aside ([`super::aside`]).
-pub(super) fn overrun_trace(
-    te: &TimedEngine<'_>,
-    path: &[TG3Action],
-    end: &TG3State,
-    task: usize,
-) -> Trace {
-    let last = TraceStep::new(Event::Violation, unfinished_text(te, end, task));
-    let mut trace = timed_trace(te, path, last);
-    super::aside::set_aside(te, path, task, &mut trace);
-    trace
-}
-
 /// Per periodic task of the group explored, the long-codel causes a
 /// violation could show: its codels whose WCET is longer than its period
 /// (docs/genom3-semantics.md 15.11).
@@ -334,98 +286,4 @@ fn everything_found(
             other.get(&t).is_some_and(|ids| ids.len() >= EXAMINED)
                 && causes.iter().all(|&c| long.contains_key(&(t, c)))
         })
-}
-
-/// A codel of task `t` longer than its period, still running in `st`.
-pub(super) fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
-    te.instances(&st.g, t)
-        .filter(|(_, i)| i.has(mark::BUSY))
-        .find_map(|(who, i)| longer_than_period(te.m(), t, who, i.state))
-}
-
-/// [`Cause::LongCodel`] when the codel of `who` in `state` (a codel of
-/// task `t`) has a WCET longer than `t`'s period.
-fn longer_than_period(m: &Machine<'_>, t: usize, who: Who, state: u8) -> Option<Cause> {
-    let period = m.tasks[t].period_ns?;
-    let wcet = m.fsm(who.owner()).states[usize::from(state)].wcet_ns?;
-    (wcet > period).then_some(Cause::LongCodel(who.owner(), state))
-}
-
-/// The cause of the violation of task `t` that `path` ends with, read off
-/// the steps of the wake-up it overran (those after `t`'s previous tick).
-pub(super) fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) -> Cause {
-    let m = te.m();
-    let mine = |who: Who| m.task_of(who.owner()) == t;
-    let ticks = path
-        .iter()
-        .enumerate()
-        .filter(|(_, a)| matches!(a, TG3Action::Tick(x) if usize::from(*x) == t))
-        .map(|(k, _)| k);
-    let from = ticks.rev().nth(1).unwrap_or(0);
-    let wake = &path[from..];
-    // A codel longer than the period that ran in the wake-up is the cause
-    // (though it ended, what followed it could not fit).
-    let long = wake.iter().find_map(|a| match *a {
-        TG3Action::Begin(who, v) if mine(who) => {
-            longer_than_period(m, t, who, Inst::unpack(v)?.state)
-        }
-        _ => None,
-    });
-    if let Some(cause) = long {
-        return cause;
-    }
-    if wake
-        .iter()
-        .any(|a| matches!(*a, TG3Action::Ticket(who, _) if mine(who)))
-    {
-        return Cause::LockWait;
-    }
-    let unpaused = |who: Who, v: u16, o: u8| {
-        let Some(i) = Inst::unpack(v) else {
-            return false;
-        };
-        let st = &m.fsm(who.owner()).states[usize::from(i.state)];
-        matches!(
-            st.yields.get(usize::from(o)),
-            Some(Target::State { pause: false, .. })
-        )
-    };
-    if wake
-        .iter()
-        .any(|a| matches!(*a, TG3Action::End(who, v, o) if mine(who) && unpaused(who, v, o)))
-    {
-        return Cause::Chain;
-    }
-    Cause::Shared
-}
-
-/// What the tick of task `t` finds unfinished in `st`.
-pub(super) fn unfinished_text(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> String {
-    let m = te.m();
-    let task = &m.tasks[t];
-    let period = format_ns(task.period_ns.unwrap_or(0));
-    let mut what = Vec::new();
-    for (who, i) in te.instances(&st.g, t) {
-        let owner = who.owner();
-        let state = &m.fsm(owner).states[usize::from(i.state)].name;
-        let st = &m.fsm(owner).states[usize::from(i.state)];
-        if i.has(mark::BUSY) && st.is_async {
-            what.push(format!(
-                "{} still runs `async` codel `{state}`, which has no upper bound (it waits for an external event)",
-                describe(&te.e, owner)
-            ));
-        } else if i.has(mark::BUSY) {
-            what.push(format!("{} still runs `{state}`", describe(&te.e, owner)));
-        } else if i.has(mark::DUE) {
-            what.push(format!(
-                "{} has not run `{state}` yet (it waits for a lock)",
-                describe(&te.e, owner)
-            ));
-        }
-    }
-    format!(
-        "task `{}` reaches its next tick ({period} after the previous one) with the work of that wake-up unfinished: {}",
-        task.name,
-        what.join("; ")
-    )
 }

@@ -13,9 +13,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
-use super::analysis::{TaskOverrun, cause_on_path, long_codel, overrun_trace};
 use super::groups::Group;
 use super::locks::Locks;
+use super::overrun::{TaskOverrun, cause_on_path, long_codel, overrun_trace};
 use super::{TG3State, TimedEngine};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, explore_until};

@@ -40,6 +40,7 @@ pub mod bound;
 pub mod groups;
 pub mod hunt;
 pub mod locks;
+pub mod overrun;
 mod requests;
 pub mod response;
 mod steps;
