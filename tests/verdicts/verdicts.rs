@@ -1253,6 +1253,7 @@ fn the_json_trace_is_a_list_of_step_objects() {
         "codel",
         "outcome",
         "loop_start",
+        "aside",
         "text",
         "location",
     ];
@@ -1267,6 +1268,7 @@ fn the_json_trace_is_a_list_of_step_objects() {
         assert_eq!(step["step"], k + 1);
         assert!(step["time_ns"].is_null(), "untimed trace");
         assert_eq!(step["loop_start"], k == 8, "step {k}");
+        assert_eq!(step["aside"], false, "step {k}: no thread set aside");
         assert!(step["text"].as_str().is_some_and(|t| !t.is_empty()));
         let location = &step["location"];
         if location.is_null() {
