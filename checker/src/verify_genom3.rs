@@ -186,14 +186,13 @@ pub fn verify_genom3(
         let deadlines = options.deadline_ids(c);
         if let Some(r) = analyse_responses(&m, options.limits(started), &deadlines) {
             response_times = response_time::response_times(c, &r.found);
-            out.extend(response_time::check(
-                c,
-                &r.found,
-                &response_times,
-                &deadlines,
-            ));
-            let decided = out.iter().any(|d| d.code == genom_model::Code::Incomplete);
-            if let (Some(stop), false) = (r.stopped, decided) {
+            let checked = response_time::check(c, &r.found, &response_times, &deadlines);
+            // A deadline left undecided already says it is incomplete.
+            let said = checked
+                .iter()
+                .any(|d| d.code == genom_model::Code::Incomplete);
+            out.extend(checked);
+            if let (Some(stop), false) = (r.stopped, said) {
                 out.push(response_time::unfinished(c, stop, &response_times, started));
             }
             states += r.states;
