@@ -187,7 +187,9 @@ fn the_model_overruns_where_the_engine_does_on_the_timing_fixtures() {
         let (r, text) = fixture(&path);
         let Ok(text) = text else { continue };
         let prog = parse(&text).expect("parses");
+        let t0 = std::time::Instant::now();
         let (got, complete) = model_overruns(&prog);
+        println!("TIME {} {:?}", path.display(), t0.elapsed());
         if !complete {
             println!(
                 "{}: skipped, more than {MAX_STATES} symbolic states",
