@@ -247,7 +247,7 @@ impl Layout<'_> {
                     Some(_) =>
                         "At each tick it starts the accepted instances and resumes the paused ones (only at a tick, 1.5)",
                     None =>
-                        "Without a period it is activated at any time while an instance waits to start or resume (15.4)",
+                        "Without a period it is activated at any time while an instance is accepted, running or stopping (15.4; as the network)",
                 }
             ),
             &["sleep", "sweep"],
@@ -273,15 +273,7 @@ impl Layout<'_> {
                 let waiting: Vec<String> = t
                     .slots
                     .iter()
-                    .map(|&s| {
-                        let (st, pz) = (p.v(self, self.slots[s].st), p.v(self, self.slots[s].pz));
-                        let stopping = if self.may_stop(&self.slots[s]) {
-                            format!(" or {st} = 4")
-                        } else {
-                            String::new()
-                        };
-                        format!("{st} = 2 or ({st} = 3 and {pz}){stopping}")
-                    })
+                    .map(|&s| format!("{} >= 2", p.v(self, self.slots[s].st)))
                     .collect();
                 if waiting.is_empty() {
                     Vec::new()
