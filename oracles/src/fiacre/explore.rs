@@ -31,7 +31,7 @@ struct Inst {
     /// Per state, its `from` statement.
     froms: Vec<Option<Vec<Stmt>>>,
     /// Each name of the process: its variable among the network's.
-    names: HashMap<String, usize>,
+    names: HashMap<String, usize, Fnv>,
 }
 
 impl Scope for Inst {
@@ -40,6 +40,32 @@ impl Scope for Inst {
             .get(name)
             .copied()
             .ok_or_else(|| format!("process `{}` has no variable `{name}`", self.name))
+    }
+}
+
+/// The FNV-1a hash of a variable's name: names are looked up at every
+/// statement, and they are short (SipHash's guarantees are not needed).
+#[derive(Default, Clone, Copy)]
+struct Fnv;
+
+/// FNV-1a's state.
+struct FnvHasher(u64);
+
+impl std::hash::BuildHasher for Fnv {
+    type Hasher = FnvHasher;
+    fn build_hasher(&self) -> FnvHasher {
+        FnvHasher(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl std::hash::Hasher for FnvHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
     }
 }
 
@@ -107,7 +133,7 @@ impl Net {
             if proc_.params.len() != inst.args.len() {
                 return Err(format!("`{}`: wrong number of arguments", inst.name));
             }
-            let mut names = HashMap::new();
+            let mut names = HashMap::with_hasher(Fnv::default());
             for (p, a) in proc_.params.iter().zip(&inst.args) {
                 let slot = match (p.by_ref, a) {
                     (true, Arg::Ref(v)) => {
