@@ -276,6 +276,7 @@ fn small_generated(seed: u64) -> Genom3Config {
 fn the_model_overruns_where_the_engine_does_on_generated_components() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let (mut compared, mut overrunning) = (0, 0);
+    let mut exercised = [0; 3];
     for seed in 0..40 {
         let g = generate_genom3(&small_generated(seed));
         let source = dir.path().join(format!("gen-{seed}.gen"));
@@ -308,10 +309,23 @@ fn the_model_overruns_where_the_engine_does_on_generated_components() {
         );
         compared += 1;
         overrunning += usize::from(!got.is_empty());
+        // What the compared components exercise.
+        let features = [
+            text.contains("process slot_task_"),
+            g.r#gen.contains("interrupts"),
+            g.r#gen.contains("async"),
+        ];
+        for (n, f) in exercised.iter_mut().zip(features) {
+            *n += usize::from(f);
+        }
     }
     assert!(
-        compared >= 6 && overrunning >= 2,
+        compared >= 12 && overrunning >= 3,
         "{compared} compared, {overrunning} overrunning"
+    );
+    assert!(
+        exercised.iter().all(|&n| n >= 1),
+        "compared with permanent codels, interrupts, async codels: {exercised:?}"
     );
 }
 
