@@ -402,7 +402,10 @@ fn the_untimed_model_runs_the_codels_the_engine_runs() {
             .collect();
         let mut model = BTreeSet::new();
         for (_, s) in c.services.iter() {
-            if dead.iter().any(|m| m.contains(&format!("`{}`", s.name.name))) {
+            if dead
+                .iter()
+                .any(|m| m.contains(&format!("`{}`", s.name.name)))
+            {
                 continue;
             }
             for &k in &s.codels {

@@ -145,7 +145,9 @@ fn snapshots_of_the_small_corpus_components() {
             .expect("in the corpus");
         let (_, e) = export(path);
         // The header names the checked file by its path: keep its name.
-        let text = e.main.replace(&path.display().to_string(), &format!("{name}.gen"));
+        let text = e
+            .main
+            .replace(&path.display().to_string(), &format!("{name}.gen"));
         insta::assert_snapshot!(format!("fiacre_genom3_corpus__{name}"), text);
     }
 }

@@ -243,9 +243,7 @@ impl Layout<'_> {
         } else {
             "wait [0,...[".to_owned()
         };
-        let mut ends = vec![format!(
-            "{wait}; /* it succeeds */ {crun} := 0; {done}"
-        )];
+        let mut ends = vec![format!("{wait}; /* it succeeds */ {crun} := 0; {done}")];
         if !codel.copy {
             ends.push(format!(
                 "/* an exception ends the request */ {crun} := 0; to serve"

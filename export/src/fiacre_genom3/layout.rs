@@ -202,7 +202,13 @@ impl<'a> Layout<'a> {
         if r.slots.iter().any(|s| !s.interrupts.is_empty()) {
             l.ended = Some(l.var("ended", "bool", "false".into()));
         }
-        let named: BTreeSet<ServiceId> = r.after.values().chain(r.before.values()).flatten().copied().collect();
+        let named: BTreeSet<ServiceId> = r
+            .after
+            .values()
+            .chain(r.before.values())
+            .flatten()
+            .copied()
+            .collect();
         for s in named {
             let name = &input.component.services[s].name.name;
             let v = l.var(&format!("done_{name}"), "bool", "false".into());
@@ -252,7 +258,12 @@ impl<'a> Layout<'a> {
             .slots
             .iter()
             .flat_map(|s| s.interrupts.iter().copied())
-            .chain(self.r.controls.iter().flat_map(|c| c.interrupts.iter().copied()))
+            .chain(
+                self.r
+                    .controls
+                    .iter()
+                    .flat_map(|c| c.interrupts.iter().copied()),
+            )
             .collect();
         if self.r.controls.iter().any(|c| c.kind == CtlKind::Abort) {
             out.extend(self.r.slot_of.values().flatten().copied());
@@ -379,7 +390,9 @@ impl<'a> Layout<'a> {
             }
         }
         let timed = self.r.contended_control_codels();
-        for sid in timed.keys() {
+        // `abort_activity` takes effect at once, its codels aside, as on
+        // the network's control thread.
+        for sid in timed.keys().filter(|&&s| Some(s) != self.abort) {
             by.entry(*sid).or_default();
         }
         // The functions and attributes whose request changes something a
@@ -403,7 +416,9 @@ impl<'a> Layout<'a> {
             let name = self.input.component.services[service].name.name.clone();
             let rq = via_control.then(|| self.var(&format!("rq_{name}"), "bool", "false".into()));
             let timed = timed.get(&service).cloned().unwrap_or_default();
-            let kind = calls.get(&service).map_or(ReqKind::Accept, |&k| ReqKind::Call(k));
+            let kind = calls
+                .get(&service)
+                .map_or(ReqKind::Accept, |&k| ReqKind::Call(k));
             self.requests.push(Request {
                 service,
                 kind,

@@ -1,23 +1,28 @@
-//! The `fiacre` export of a **GenoM3** component: a timed Fiacre model
-//! (`.fcr`, for `frac` and TINA) of GenoM3's timed semantics as
-//! genom-check's timed GenoM3 engine reads it (docs/genom3-semantics.md
-//! sections 1-4, 9, 10 and 15), shaped like LAAS's Fiacre template for
-//! GenoM3 (a client, a control task, per task a timer and a task manager,
-//! per instance slot a process whose codels `wait [0,WCET]`), plus one
-//! overrun watcher per periodic task. docs/exports/fiacre.md ("GenoM3
+//! The `fiacre` export of a **GenoM3** component: a Fiacre model (`.fcr`,
+//! for `frac` and TINA) of GenoM3's semantics as genom-check's GenoM3
+//! engines read it (docs/genom3-semantics.md sections 1-10 and 15),
+//! shaped like LAAS's Fiacre template for GenoM3 (a client, a control
+//! task, per task a timer and a task manager, per instance slot a process
+//! whose codels `wait [0,WCET]`), plus one overrun watcher per periodic
+//! task. Timed with the codels' WCETs; without them, the untimed reading
+//! (every codel `wait [0,...[`, no watcher, codel reachability only),
+//! which the header and a note say. docs/exports/fiacre.md ("GenoM3
 //! components") describes the translation process by process.
 //!
 //! - [`layout`]: the names, shared variables and time unit;
 //! - [`process`]: a process as it is built, and its declaration;
 //! - [`processes`]: the text of every process but the control task's;
 //! - [`control`]: the control task, the locks and the resource FIFO;
+//! - [`stops`]: interruption, the end of an instance, `kill` and the
+//!   shutdown;
 //! - this file: what the translation refuses, and the component, the
 //!   header and the properties.
 //!
 //! The component is read through the timed network's reading of it
 //! ([`genom_translate::timed_automata::genom3::read`]: slots, state
-//! machines, exclusion lists), the same reading the `uppaal` and
-//! `tchecker` exports print.
+//! machines, interruptions, exclusion lists), the same reading the
+//! `uppaal` and `tchecker` exports print, and its rules are those the
+//! network's statements apply.
 
 mod control;
 mod layout;

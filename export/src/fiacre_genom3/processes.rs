@@ -103,12 +103,11 @@ impl Layout<'_> {
             .find(|r| r.service == sid)
             .map_or_else(String::new, |r| self.admissible(p, r));
         let mut out = Vec::new();
-        for s in &self.slots {
+        for (k, s) in self.slots.iter().enumerate() {
             if self.r.slots[s.read].service.is_none() || s.fl.is_none() {
                 continue;
             }
             let st = p.v(self, s.st);
-            let k = self.slots.iter().position(|x| std::ptr::eq(x, s)).unwrap_or(0);
             out.push(format!(
                 "/* abort_activity of {} */ on {serving}{ok} and {st} >= 1 and {st} <= 3; {}loop",
                 s.process,

@@ -155,7 +155,10 @@ impl Layout<'_> {
         let mut out = String::new();
         if !spare {
             let end = self.end_slot(p, s, false);
-            out.push_str(&format!("if {st} = 1 or {st} = 2 then {} end; ", block(&end)));
+            out.push_str(&format!(
+                "if {st} = 1 or {st} = 2 then {} end; ",
+                block(&end)
+            ));
         }
         let (due, fl) = (p.v(self, s.due), p.v(self, fl));
         let stop = self.to_stop(p, s);
@@ -237,7 +240,9 @@ impl Layout<'_> {
 
     /// `abort_activity` on slot `a` (5.6): it interrupts that instance.
     pub(super) fn abort(&self, p: &mut Proc, a: usize) -> String {
-        let mut out = self.abort.map_or_else(String::new, |s| self.mark_done(p, s));
+        let mut out = self
+            .abort
+            .map_or_else(String::new, |s| self.mark_done(p, s));
         out.push_str(&self.flag(p, a, false));
         out.push_str(&self.settle(p));
         out
@@ -294,7 +299,8 @@ impl Layout<'_> {
             body.push_str(&self.clear(p, s));
             let t = &self.tasks[s.task];
             if let (Some(cur), Some(busy)) = (t.cur, self.busy(p, s)) {
-                let mut kill = format!("{} := 0; {} := false", p.v(self, cur), p.v(self, t.running));
+                let mut kill =
+                    format!("{} := 0; {} := false", p.v(self, cur), p.v(self, t.running));
                 if let Some(f) = t.fifo {
                     kill.push_str(&format!("; {} := 0", p.v(self, f.run)));
                 }

@@ -452,6 +452,36 @@ mod tests {
         assert!(late(6), "6 + 6 may end after 10");
     }
 
+    /// A worker whose only transition waits `[lo,...[`, observed by a
+    /// clock at 3 and at 100: whether it can be done before 3, and
+    /// whether it can still be waiting at 100.
+    fn unbounded(lo: i64) -> (bool, bool) {
+        let text = format!(
+            "process clock (&t3 : bool, &t100 : bool) is states a, b, c\n\
+               from a wait [3,3]; t3 := true; to b\n\
+               from b wait [97,97]; t100 := true; to c\n\
+             process worker (&done : bool) is states s, fin\n\
+               from s wait [{lo},...[; done := true; to fin\n\
+             process obs (&t3 : bool, &t100 : bool, &done : bool) is states w, early, slow\n\
+               from w select wait [0,0]; on done and not t3; to early\n\
+               [] wait [0,0]; on t100 and not done; to slow end\n\
+             component c is var t3 : bool := false, t100 : bool := false, done : bool := false\n\
+               par * in clock (&t3, &t100) || worker (&done) || obs (&t3, &t100, &done) end\n\
+             c\n"
+        );
+        let net = Net::new(&parse(&text).expect("parses")).expect("instantiates");
+        let reach = net.explore(&[], 10_000).expect("runs");
+        assert!(reach.complete);
+        let at = |s: &str| reach.reached.contains(&("obs".to_owned(), s.to_owned()));
+        (at("early"), at("slow"))
+    }
+
+    #[test]
+    fn an_interval_without_upper_bound_is_a_lower_bound_only() {
+        assert_eq!(unbounded(2), (true, true), "done at 2, or after 100");
+        assert_eq!(unbounded(4), (false, true), "never before 4");
+    }
+
     #[test]
     fn an_on_condition_with_a_delay_is_outside_the_subset() {
         let text = "process p (&x : bool) is states a from a on x; wait [1,2]; to a\n\
