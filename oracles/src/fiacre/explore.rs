@@ -133,7 +133,7 @@ impl Net {
             if proc_.params.len() != inst.args.len() {
                 return Err(format!("`{}`: wrong number of arguments", inst.name));
             }
-            let mut names = HashMap::with_hasher(Fnv::default());
+            let mut names = HashMap::with_hasher(Fnv);
             for (p, a) in proc_.params.iter().zip(&inst.args) {
                 let slot = match (p.by_ref, a) {
                     (true, Arg::Ref(v)) => {
