@@ -136,8 +136,9 @@ fn header(l: &Layout<'_>, out: &mut String) {
         out,
         "\n   GenoM3's timed semantics (docs/genom3-semantics.md section 15), shaped like LAAS's\n   \
          Fiacre template for GenoM3 (docs/exports/fiacre.md). Time unit: 1 = {}; a codel\n   \
-         takes any duration in [0, WCET] (0 without a WCET), as in genom-check's engine.\n   \
-         {} instance(s) of each activity (genom-check's --max-instances).\n   \
+         takes any duration in [0, WCET] (0 without a WCET; an async codel at least its\n   \
+         WCET, no upper bound), as in genom-check's engine. {} instance(s) of each activity\n   \
+         (genom-check's --max-instances), one more for an activity that interrupts itself.\n   \
          The watcher of a periodic task reaches its state `overrun` when a tick finds the\n   \
          task's work unfinished and time passes: a thread-overrun. */\n",
         genom_model::duration::format_ns(l.unit),
