@@ -252,6 +252,51 @@ fn the_model_overruns_where_the_engine_does_on_the_timing_fixtures() {
     );
 }
 
+/// With `--max-instances 2`, the model has two slots per activity (three
+/// for one that interrupts itself: 15.8) and still overruns where the
+/// engine does, on the instance fixtures (F4: two `move` overrun where
+/// one fits).
+#[test]
+fn the_model_overruns_where_the_engine_does_with_two_instances() {
+    let (mut compared, mut overrunning) = (0, 0);
+    // Each has one activity: two slots, three when it interrupts itself.
+    for (name, want) in [
+        ("f4_instances", 2),
+        ("f4_self_interrupt", 3),
+        ("f1b_chain_paused", 2),
+    ] {
+        let path = Path::new(TIMING).join(format!("{name}.gen"));
+        let wcet = path.with_extension("wcet");
+        let options = CheckOptions::new().max_instances(2);
+        let r = common::check_genom3(&path, &[], Some(&wcet), &options);
+        let text = fiacre(&r).expect("exported");
+        let prog = parse(&text).expect("parses");
+        let slots: Vec<&str> = prog
+            .processes
+            .iter()
+            .map(|p| p.name.as_str())
+            .filter(|n| n.starts_with("slot_") && !n.starts_with("slot_task_"))
+            .collect();
+        assert_eq!(slots.len(), want, "{name}: {slots:?}");
+        let (got, complete) = model_overruns(&prog, MAX_STATES);
+        if !complete {
+            println!("{name}: skipped, more than {MAX_STATES} symbolic states");
+            continue;
+        }
+        assert_eq!(
+            got,
+            engine_overruns(&r),
+            "{name}: the model's, then the engine's"
+        );
+        compared += 1;
+        overrunning += usize::from(!got.is_empty());
+    }
+    assert!(
+        compared >= 2 && overrunning >= 1,
+        "{compared} compared, {overrunning} overrunning"
+    );
+}
+
 /// A small timed component of seed `seed`: one or two tasks, and by
 /// seed, besides the plain ones, permanent codels (with a `stop` codel),
 /// `interrupts`/`after`/`before`, or `async` codels.
