@@ -434,7 +434,8 @@ impl Layout<'_> {
     /// A permanent codel state the shutdown may kill: its ends (which
     /// then change nothing) and an urgent drop (10.2: it is forgotten).
     fn killable(&self, p: &mut Proc, state: &str, note: &str, ends: &[String], cond: &str) {
-        let Some((wait, first)) = ends[0].split_once("; ") else {
+        let Some((wait, first)) = ends.first().and_then(|e| e.split_once("; ")) else {
+            p.from(state, note, ends);
             return;
         };
         let mut outcomes = vec![first.to_owned()];
