@@ -163,6 +163,9 @@ pub struct Exported {
     pub main: String,
     /// Companion files: (file-name suffix replacing the extension, text).
     pub extra: Vec<(String, String)>,
+    /// What the user should know about the model (the CLI prints each on
+    /// stderr as a `note:`), e.g. that it reads the component untimed.
+    pub notes: Vec<String>,
 }
 
 impl Exported {
@@ -171,6 +174,7 @@ impl Exported {
         Exported {
             main,
             extra: Vec::new(),
+            notes: Vec::new(),
         }
     }
 }

@@ -85,6 +85,7 @@ fn printed(mut p: Printer<'_>) -> Exported {
     Exported {
         main: xml,
         extra: vec![(".q".to_owned(), queries)],
+        notes: Vec::new(),
     }
 }
 

@@ -53,14 +53,16 @@ pub fn run(args: &ExportArgs, output: &OutputArgs) -> u8 {
     };
     match genom_export::export(format(args.target), &input) {
         Ok(exported) => match write(args, &exported, &result) {
-            Ok(written) => {
-                if !output.quiet {
-                    // An unverified export had its whole report on stderr.
-                    let summary = verification.verified.then(|| result.report(&shown));
-                    report_written(&written, summary.as_ref());
+            Ok(written) if !output.quiet => {
+                for note in &exported.notes {
+                    eprintln!("note: {note}");
                 }
+                // An unverified export had its whole report on stderr.
+                let summary = verification.verified.then(|| result.report(&shown));
+                report_written(&written, summary.as_ref());
                 EXIT_OK
             }
+            Ok(_) => EXIT_OK,
             Err(status) => status,
         },
         Err(e) => {

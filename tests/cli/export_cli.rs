@@ -709,3 +709,32 @@ fn an_output_that_is_not_a_regular_file_is_written_directly_without_companion() 
     let null = std::fs::metadata("/dev/null").expect("/dev/null");
     assert!(!null.is_file(), "/dev/null was replaced");
 }
+
+/// A GenoM3 component without a WCET file is exported to Fiacre in the
+/// untimed reading, which the file's header and a `note:` on stderr say;
+/// with its WCET file the model is timed and there is no such note.
+#[test]
+fn a_fiacre_export_without_wcets_is_untimed_and_says_so() {
+    let file = "tests/fixtures/genom3/timing/f1b_chain_overrun.gen";
+    let (code, stdout, stderr) = run(&["export", "fiacre", file, "--allow-unverified"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("UNTIMED READING"), "{stdout}");
+    assert!(
+        stderr
+            .contains("note: no WCET file (--wcet FILE): the Fiacre model is the untimed reading"),
+        "{stderr}"
+    );
+    let wcet = "tests/fixtures/genom3/timing/f1b_chain_overrun.wcet";
+    let (code, stdout, stderr) = run(&[
+        "export",
+        "fiacre",
+        file,
+        "--wcet",
+        wcet,
+        "--allow-unverified",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(!stdout.contains("UNTIMED READING"));
+    assert!(stdout.contains("process watch_t"), "a timed model");
+    assert!(!stderr.contains("untimed"), "{stderr}");
+}

@@ -142,18 +142,37 @@ impl Layout<'_> {
             &names,
         );
         let mut serve = Vec::new();
+        let serving = self.serving(&mut p);
         for r in &self.requests {
             let Some(rq) = r.rq else { continue };
             let rq = p.v(self, rq);
             let what = self.service_name(r).to_owned();
             let next = match r.timed.first() {
                 Some(&j) => format!("to {}", self.ctl_states(r, j).0),
-                None => format!("{}loop", self.accept(&mut p, r)),
+                None => format!("{}loop", self.effect(&mut p, r)),
             };
-            serve.push(format!(
-                "/* take {what} */ wait [0,0]; on {rq}; {rq} := false; {next}"
-            ));
+            // Taken when it is still admissible (`after`, `before`, not
+            // shut down), else refused.
+            let ok = self.admissible(&mut p, r);
+            let ok = if self.phase.is_some() {
+                format!("{serving}{ok}")
+            } else {
+                ok.trim_start_matches(" and ").to_owned()
+            };
+            if ok.is_empty() {
+                serve.push(format!(
+                    "/* take {what} */ wait [0,0]; on {rq}; {rq} := false; {next}"
+                ));
+            } else {
+                serve.push(format!(
+                    "/* take {what} */ wait [0,0]; on {rq} and {ok}; {rq} := false; {next}"
+                ));
+                serve.push(format!(
+                    "/* refuse {what} */ wait [0,0]; on {rq} and not ({ok}); {rq} := false; loop"
+                ));
+            }
         }
+        serve.extend(self.aborts(&mut p));
         p.from("serve", "", &serve);
         for r in &self.requests {
             for (n, &j) in r.timed.iter().enumerate() {
@@ -217,33 +236,20 @@ impl Layout<'_> {
         );
         let done = match r.timed.get(n + 1) {
             Some(&next) => format!("to {}", self.ctl_states(r, next).0),
-            None => format!("{}to serve", self.accept(p, r)),
+            None => format!("{}to serve", self.effect(p, r)),
         };
-        let w = self.units(codel.wcet_ns);
-        let mut ends = vec![format!(
-            "wait [0,{w}]; /* it succeeds */ {crun} := 0; {done}"
-        )];
+        let wait = if self.timed {
+            format!("wait [0,{}]", self.units(codel.wcet_ns))
+        } else {
+            "wait [0,...[".to_owned()
+        };
+        let mut ends = vec![format!("{wait}; /* it succeeds */ {crun} := 0; {done}")];
         if !codel.copy {
             ends.push(format!(
                 "/* an exception ends the request */ {crun} := 0; to serve"
             ));
         }
         self.select_after_wait(p, &run, &format!("{} runs", codel.name), &ends);
-    }
-
-    /// An activity's request accepted into its first free slot, followed by
-    /// `; ` (nothing for a function or attribute).
-    pub(super) fn accept(&self, p: &mut Proc, r: &Request) -> String {
-        if r.slots.is_empty() {
-            return String::new();
-        }
-        let mut take = String::new();
-        for (i, &s) in r.slots.iter().enumerate() {
-            let st = p.v(self, self.slots[s].st);
-            let kw = if i == 0 { "if" } else { " elsif" };
-            take.push_str(&format!("{kw} {st} = 0 then {st} := 2"));
-        }
-        format!("{take} end; ")
     }
 }
 

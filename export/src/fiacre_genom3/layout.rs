@@ -7,7 +7,7 @@
 use std::collections::BTreeSet;
 
 use genom_model::component::ServiceId;
-use genom_translate::timed_automata::genom3::read::Read;
+use genom_translate::timed_automata::genom3::read::{CtlKind, Read};
 
 use crate::ExportInput;
 use crate::fiacre::Names;
@@ -40,6 +40,9 @@ pub(super) struct TaskL {
     /// With locks: its place in the resource FIFO, the slot its ticket is
     /// for, the key + 1 of the codel it runs.
     pub fifo: Option<TaskFifo>,
+    /// With interruptions (`kill`, `abort_activity`, `interrupts`): the
+    /// turn of the slot whose codel runs (0: none).
+    pub cur: Option<usize>,
     /// Its slots (indices into [`Layout::slots`]), in sweep order.
     pub slots: Vec<usize>,
     pub span: genom_model::Span,
@@ -81,6 +84,12 @@ pub(super) struct SlotL {
     pub q: usize,
     pub due: usize,
     pub pz: usize,
+    /// For a slot something may interrupt: interrupted while its codel
+    /// runs or is due (it goes to `stop` after that codel, 15.6).
+    pub fl: Option<usize>,
+    /// The slots it interrupts when accepted (indices into
+    /// [`Layout::slots`]; every instance of each target activity).
+    pub targets: Vec<usize>,
     /// The process state of each codel state of its machine.
     pub states: Vec<String>,
 }
@@ -92,11 +101,24 @@ pub(super) struct SlotL {
 /// `ctl_codels`).
 pub(super) struct Request {
     pub service: ServiceId,
+    /// What it does once its control codels succeeded.
+    pub kind: ReqKind,
     /// Its request flag, when requests go through the control task (some
     /// request of the component has contended control codels).
     pub rq: Option<usize>,
     pub slots: Vec<usize>,
     pub timed: Vec<usize>,
+}
+
+/// What a request does once its control codels succeeded.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum ReqKind {
+    /// An activity's request: an instance is accepted into a free slot.
+    Accept,
+    /// A function or attribute (index into the reading's `controls`):
+    /// it marks itself done and interrupts its targets; `kill` then
+    /// drains the component (10.2).
+    Call(usize),
 }
 
 /// An activity codel's property name, its label, and the (process,
@@ -117,6 +139,20 @@ pub(super) struct Layout<'a> {
     pub requests: Vec<Request>,
     pub booted: usize,
     pub failed: usize,
+    /// With `kill`: 0 boot or run, 2 drain, 3 permanent stop paths, 4
+    /// stopped (10.2); and the task whose permanent stop path runs.
+    pub phase: Option<usize>,
+    pub pstop: Option<usize>,
+    /// With pending interrupters (some activity interrupts others): an
+    /// instance ended in this step (the pending ones are re-examined, 5.3).
+    pub ended: Option<usize>,
+    /// Per service some `after` or `before` names: it completed once.
+    pub done: std::collections::BTreeMap<ServiceId, usize>,
+    /// `abort_activity` (the `genom` interface's), when requested.
+    pub abort: Option<ServiceId>,
+    /// With WCETs (else the untimed reading: every codel takes any time,
+    /// no watcher).
+    pub timed: bool,
     /// With locks (some codel's exclusion list is not empty).
     pub fifo: Option<Fifo>,
     pub client: String,
@@ -128,7 +164,7 @@ pub(super) struct Layout<'a> {
 const SLOT_STATES: [&str; 1] = ["idle"];
 
 impl<'a> Layout<'a> {
-    pub fn new(input: &'a ExportInput<'a>, r: &'a Read, instances: usize) -> Self {
+    pub fn new(input: &'a ExportInput<'a>, r: &'a Read, instances: usize, timed: bool) -> Self {
         let mut names = Names::default();
         let root = names.take("", &input.component.name.name);
         let client = names.take("", "client");
@@ -145,6 +181,12 @@ impl<'a> Layout<'a> {
             requests: Vec::new(),
             booted: 0,
             failed: 0,
+            phase: None,
+            pstop: None,
+            ended: None,
+            done: Default::default(),
+            abort: None,
+            timed,
             fifo: None,
             client,
             control,
@@ -152,6 +194,31 @@ impl<'a> Layout<'a> {
         };
         l.booted = l.var("booted", "nat", initial_boot(r).to_string());
         l.failed = l.var("failed", "bool", "false".to_owned());
+        let has = |k: CtlKind| r.controls.iter().any(|c| c.kind == k);
+        if has(CtlKind::Kill) {
+            l.phase = Some(l.var("phase", "nat", "0".into()));
+            l.pstop = Some(l.var("pstop", "nat", "0".into()));
+        }
+        if r.slots.iter().any(|s| !s.interrupts.is_empty()) {
+            l.ended = Some(l.var("ended", "bool", "false".into()));
+        }
+        let named: BTreeSet<ServiceId> = r
+            .after
+            .values()
+            .chain(r.before.values())
+            .flatten()
+            .copied()
+            .collect();
+        for s in named {
+            let name = &input.component.services[s].name.name;
+            let v = l.var(&format!("done_{name}"), "bool", "false".into());
+            l.done.insert(s, v);
+        }
+        l.abort = r
+            .controls
+            .iter()
+            .find(|c| c.kind == CtlKind::Abort)
+            .map(|c| c.service);
         if r.keys.iter().any(|k| !k.excl.is_empty()) {
             l.fifo = Some(Fifo {
                 len: l.var("qlen", "nat", "0".into()),
@@ -159,9 +226,11 @@ impl<'a> Layout<'a> {
                 crun: l.var("crun", "nat", "0".into()),
             });
         }
+        let interrupted = l.interrupted();
         for t in 0..r.tasks.len() {
-            l.task(t);
+            l.task(t, &interrupted);
         }
+        l.targets();
         l.requests();
         l
     }
@@ -181,7 +250,42 @@ impl<'a> Layout<'a> {
         ns / self.unit
     }
 
-    fn task(&mut self, t: usize) {
+    /// The reading's slots something may interrupt (an activity, a
+    /// function, `kill` or `abort_activity`).
+    fn interrupted(&self) -> BTreeSet<usize> {
+        let mut out: BTreeSet<usize> = self
+            .r
+            .slots
+            .iter()
+            .flat_map(|s| s.interrupts.iter().copied())
+            .chain(
+                self.r
+                    .controls
+                    .iter()
+                    .flat_map(|c| c.interrupts.iter().copied()),
+            )
+            .collect();
+        if self.r.controls.iter().any(|c| c.kind == CtlKind::Abort) {
+            out.extend(self.r.slot_of.values().flatten().copied());
+        }
+        out
+    }
+
+    /// The layout slots of the reading's slots `read`.
+    pub fn copies(&self, read: &[usize]) -> Vec<usize> {
+        (0..self.slots.len())
+            .filter(|&k| read.contains(&self.slots[k].read))
+            .collect()
+    }
+
+    fn targets(&mut self) {
+        for k in 0..self.slots.len() {
+            let read = &self.r.slots[self.slots[k].read].interrupts;
+            self.slots[k].targets = self.copies(read);
+        }
+    }
+
+    fn task(&mut self, t: usize, interrupted: &BTreeSet<usize>) {
         let task = &self.r.tasks[t];
         let n = task.name.clone();
         let period = task
@@ -196,8 +300,12 @@ impl<'a> Layout<'a> {
             cont: self.var(&format!("cont_{n}"), "bool", "false".into()),
             running: self.var(&format!("running_{n}"), "bool", "false".into()),
             timer: period.map(|_| self.ident("timer_", &n)),
-            watch: period.map(|_| self.ident("watch_", &n)),
+            watch: period
+                .filter(|_| self.timed)
+                .map(|_| self.ident("watch_", &n)),
             manager: self.ident("manager_", &n),
+            cur: (!interrupted.is_empty() || self.phase.is_some())
+                .then(|| self.var(&format!("cur_{n}"), "nat", "0".into())),
             fifo: self.fifo.map(|_| TaskFifo {
                 pos: self.var(&format!("tpos_{n}"), "nat", "0".into()),
                 slot: self.var(&format!("tslot_{n}"), "nat", "0".into()),
@@ -209,18 +317,22 @@ impl<'a> Layout<'a> {
         };
         self.tasks.push(tl);
         for &i in &self.r.tasks[t].slots {
-            let copies = if self.r.slots[i].service.is_some() {
+            // An activity has `instances` slots, plus the one restarting
+            // it when it interrupts itself (the reading's second slot,
+            // 15.8); a permanent activity has one.
+            let rs = &self.r.slots[i];
+            let copies = if rs.service.is_some() && rs.second_of.is_none() {
                 self.instances
             } else {
                 1
             };
             for copy in 0..copies {
-                self.slot(t, i, copy);
+                self.slot(t, i, copy, interrupted.contains(&i));
             }
         }
     }
 
-    fn slot(&mut self, t: usize, i: usize, copy: usize) {
+    fn slot(&mut self, t: usize, i: usize, copy: usize, interrupted: bool) {
         let rs = &self.r.slots[i];
         let base = if copy == 0 {
             rs.name.clone()
@@ -261,6 +373,8 @@ impl<'a> Layout<'a> {
             ),
             due: self.var(&format!("due_{base}"), "bool", "false".into()),
             pz: self.var(&format!("pz_{base}"), "bool", "false".into()),
+            fl: interrupted.then(|| self.var(&format!("fl_{base}"), "bool", "false".into())),
+            targets: Vec::new(),
             states,
         };
         self.slots.push(slot);
@@ -276,16 +390,38 @@ impl<'a> Layout<'a> {
             }
         }
         let timed = self.r.contended_control_codels();
-        for sid in timed.keys() {
+        // `abort_activity` takes effect at once, its codels aside, as on
+        // the network's control thread.
+        for sid in timed.keys().filter(|&&s| Some(s) != self.abort) {
             by.entry(*sid).or_default();
+        }
+        // The functions and attributes whose request changes something a
+        // task or a later request sees; `abort_activity` is the client's
+        // own (one request per instance slot).
+        let mut calls = std::collections::BTreeMap::new();
+        for (k, ctl) in self.r.controls.iter().enumerate() {
+            let acts = ctl.kind != CtlKind::Plain
+                || !ctl.interrupts.is_empty()
+                || self.done.contains_key(&ctl.service);
+            if ctl.kind == CtlKind::Abort {
+                continue;
+            }
+            if acts || timed.contains_key(&ctl.service) {
+                by.entry(ctl.service).or_default();
+                calls.insert(ctl.service, k);
+            }
         }
         let via_control = !timed.is_empty();
         for (service, slots) in by {
             let name = self.input.component.services[service].name.name.clone();
             let rq = via_control.then(|| self.var(&format!("rq_{name}"), "bool", "false".into()));
             let timed = timed.get(&service).cloned().unwrap_or_default();
+            let kind = calls
+                .get(&service)
+                .map_or(ReqKind::Accept, |&k| ReqKind::Call(k));
             self.requests.push(Request {
                 service,
+                kind,
                 rq,
                 slots,
                 timed,

@@ -1,28 +1,34 @@
-//! The `fiacre` export of a **GenoM3** component: a timed Fiacre model
-//! (`.fcr`, for `frac` and TINA) of GenoM3's timed semantics as
-//! genom-check's timed GenoM3 engine reads it (docs/genom3-semantics.md
-//! sections 1-4, 9, 10 and 15), shaped like LAAS's Fiacre template for
-//! GenoM3 (a client, a control task, per task a timer and a task manager,
-//! per instance slot a process whose codels `wait [0,WCET]`), plus one
-//! overrun watcher per periodic task. docs/exports/fiacre.md ("GenoM3
+//! The `fiacre` export of a **GenoM3** component: a Fiacre model (`.fcr`,
+//! for `frac` and TINA) of GenoM3's semantics as genom-check's GenoM3
+//! engines read it (docs/genom3-semantics.md sections 1-10 and 15),
+//! shaped like LAAS's Fiacre template for GenoM3 (a client, a control
+//! task, per task a timer and a task manager, per instance slot a process
+//! whose codels `wait [0,WCET]`), plus one overrun watcher per periodic
+//! task. Timed with the codels' WCETs; without them, the untimed reading
+//! (every codel `wait [0,...[`, no watcher, codel reachability only),
+//! which the header and a note say. docs/exports/fiacre.md ("GenoM3
 //! components") describes the translation process by process.
 //!
 //! - [`layout`]: the names, shared variables and time unit;
 //! - [`process`]: a process as it is built, and its declaration;
 //! - [`processes`]: the text of every process but the control task's;
 //! - [`control`]: the control task, the locks and the resource FIFO;
+//! - [`stops`]: interruption, the end of an instance, `kill` and the
+//!   shutdown;
 //! - this file: what the translation refuses, and the component, the
 //!   header and the properties.
 //!
 //! The component is read through the timed network's reading of it
 //! ([`genom_translate::timed_automata::genom3::read`]: slots, state
-//! machines, exclusion lists), the same reading the `uppaal` and
-//! `tchecker` exports print.
+//! machines, interruptions, exclusion lists), the same reading the
+//! `uppaal` and `tchecker` exports print, and its rules are those the
+//! network's statements apply.
 
 mod control;
 mod layout;
 mod process;
 mod processes;
+mod stops;
 
 use std::fmt::Write as _;
 
@@ -43,14 +49,10 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
         .as_deref()
         .filter(|g| !g.is_interface)
         .ok_or_else(|| unsupported("not a GenoM3 component".to_owned()))?;
-    if !has_wcets(c) {
-        return Err(unsupported(
-            "a GenoM3 component's Fiacre model is timed and needs its codels' WCETs: give them with --wcet FILE (docs/genom3.md, the WCET side file)".to_owned(),
-        ));
-    }
+    let timed = has_wcets(c);
     let r = read::read(c, g);
-    refuse(c, &r)?;
-    let layout = Layout::new(input, &r, instance_bound(input));
+    refuse(&r)?;
+    let layout = Layout::new(input, &r, instance_bound(input), timed);
     let procs = layout.processes();
     let mut out = String::new();
     header(&layout, &mut out);
@@ -59,8 +61,15 @@ pub fn export(input: &ExportInput<'_>) -> Result<Exported, ExportError> {
     }
     component(&layout, &procs, &mut out);
     properties(&layout, &procs, &mut out);
-    Ok(Exported::single(out))
+    let mut e = Exported::single(out);
+    if !timed {
+        e.notes.push(UNTIMED.to_owned());
+    }
+    Ok(e)
 }
+
+/// What the model of a component without WCETs is, on stderr.
+const UNTIMED: &str = "no WCET file (--wcet FILE): the Fiacre model is the untimed reading of the component, every codel taking any duration ([0,...[), without overrun watchers; its properties are the codels' reachability only";
 
 fn unsupported(reason: String) -> ExportError {
     ExportError::Unsupported {
@@ -92,50 +101,44 @@ fn instance_bound(input: &ExportInput<'_>) -> usize {
         .max(1)
 }
 
-/// What this translation does not model yet, with the first instance of
-/// it: the component is refused rather than exported with a different
-/// meaning. Each names the exports that model it.
-fn refuse(c: &Component, r: &Read) -> Result<(), ExportError> {
-    let other = "the uppaal and tchecker exports model it";
-    for s in &r.slots {
-        let owner = s.service.map_or_else(
-            || format!("task {}", r.tasks[s.task].name),
-            |x| c.services[x].name.name.clone(),
-        );
-        if !s.interrupts.is_empty() {
+/// What this translation does not model: a task with more instance
+/// slots than GenoM3's pool of 32 (a request could find it full, 3.3), as
+/// the UPPAAL/TChecker network.
+fn refuse(r: &Read) -> Result<(), ExportError> {
+    for t in &r.tasks {
+        if t.slots.len() > 32 {
             return Err(unsupported(format!(
-                "activity {owner} interrupts other activities, which the Fiacre model of GenoM3 does not model yet; {other}"
+                "task {} needs more instance slots than GenoM3's 32, which the Fiacre model of GenoM3 does not model",
+                t.name
             )));
         }
-        if s.fsm.stop.is_some() {
-            return Err(unsupported(format!(
-                "{owner} has a stop codel (run on interruption and at shutdown), which the Fiacre model of GenoM3 does not model yet; {other}"
-            )));
-        }
-        if let Some(st) = s.fsm.states.iter().find(|st| st.is_async) {
-            return Err(unsupported(format!(
-                "{owner}'s codel in state {} is async (no upper bound), which the Fiacre model of GenoM3 does not model yet; {other}",
-                st.name
-            )));
-        }
-    }
-    if let Some((s, _)) = r.after.iter().chain(&r.before).find(|(_, v)| !v.is_empty()) {
-        return Err(unsupported(format!(
-            "service {} has an after or before clause, which the Fiacre model of GenoM3 does not model yet; {other}",
-            c.services[*s].name.name
-        )));
     }
     Ok(())
 }
 
 fn header(l: &Layout<'_>, out: &mut String) {
     crate::fiacre::opening(out, l.input, "GenoM3 component");
+    if !l.timed {
+        let _ = writeln!(
+            out,
+            "\n   UNTIMED READING: the component has no WCET (--wcet FILE), so every codel takes any\n   \
+             duration in [0,...[ and no task can be said to overrun: no overrun watcher, and the\n   \
+             properties are the codels' reachability only. GenoM3's semantics otherwise as in the\n   \
+             timed model (docs/genom3-semantics.md sections 1-10 and 15; docs/exports/fiacre.md).\n   \
+             Time unit: 1 = {} (the periods). {} instance(s) of each activity (--max-instances),\n   \
+             one more for an activity that interrupts itself. */\n",
+            genom_model::duration::format_ns(l.unit),
+            l.instances
+        );
+        return;
+    }
     let _ = writeln!(
         out,
         "\n   GenoM3's timed semantics (docs/genom3-semantics.md section 15), shaped like LAAS's\n   \
          Fiacre template for GenoM3 (docs/exports/fiacre.md). Time unit: 1 = {}; a codel\n   \
-         takes any duration in [0, WCET] (0 without a WCET), as in genom-check's engine.\n   \
-         {} instance(s) of each activity (genom-check's --max-instances).\n   \
+         takes any duration in [0, WCET] (0 without a WCET; an async codel at least its\n   \
+         WCET, no upper bound), as in genom-check's engine. {} instance(s) of each activity\n   \
+         (genom-check's --max-instances), one more for an activity that interrupts itself.\n   \
          The watcher of a periodic task reaches its state `overrun` when a tick finds the\n   \
          task's work unfinished and time passes: a thread-overrun. */\n",
         genom_model::duration::format_ns(l.unit),

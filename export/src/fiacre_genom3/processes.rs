@@ -56,9 +56,7 @@ impl Layout<'_> {
             "The clients: each activity may be requested at any time once the boot ended (10.1), while one of its instance slots is free (--max-instances); without contended control codels in the component, the control task takes no time a task sees and the request is accepted at once.".to_owned(),
             &["ready"],
         );
-        let booted = p.v(self, self.booted);
-        let failed = p.v(self, self.failed);
-        let n = self.tasks.len();
+        let serving = self.serving(&mut p);
         let mut alts = Vec::new();
         for r in &self.requests {
             let free: Vec<String> = r
@@ -71,8 +69,9 @@ impl Layout<'_> {
             } else {
                 format!(" and ({})", free.join(" or "))
             };
-            let what = self.service_name(r);
-            let ready = format!("on not {failed} and {booted} = {n}{free}");
+            let what = self.service_name(r).to_owned();
+            let ok = self.admissible(&mut p, r);
+            let ready = format!("on {serving}{free}{ok}");
             alts.push(match r.rq {
                 Some(rq) => {
                     let rq = p.v(self, rq);
@@ -80,12 +79,42 @@ impl Layout<'_> {
                 }
                 None => format!(
                     "/* request {what}, accepted at once */ {ready}; {}loop",
-                    self.accept(&mut p, r)
+                    self.effect(&mut p, r)
                 ),
             });
         }
+        if !self.requests.iter().any(|r| r.rq.is_some()) {
+            alts.extend(self.aborts(&mut p));
+        }
         p.from("ready", "", &alts);
         p
+    }
+
+    /// The requests of `abort_activity`, one per instance slot it may
+    /// interrupt (accepted, pending or running, 5.6), at any time.
+    pub(super) fn aborts(&self, p: &mut Proc) -> Vec<String> {
+        let Some(sid) = self.abort else {
+            return Vec::new();
+        };
+        let serving = self.serving(p);
+        let ok = self
+            .requests
+            .iter()
+            .find(|r| r.service == sid)
+            .map_or_else(String::new, |r| self.admissible(p, r));
+        let mut out = Vec::new();
+        for (k, s) in self.slots.iter().enumerate() {
+            if self.r.slots[s.read].service.is_none() || s.fl.is_none() {
+                continue;
+            }
+            let st = p.v(self, s.st);
+            out.push(format!(
+                "/* abort_activity of {} */ on {serving}{ok} and {st} >= 1 and {st} <= 3; {}loop",
+                s.process,
+                self.abort(p, k)
+            ));
+        }
+        out
     }
 
     fn timer_process(&self, t: &TaskL) -> Option<Proc> {
@@ -130,19 +159,20 @@ impl Layout<'_> {
             ),
             &["watching", "late", "overrun"],
         );
-        let (tick, work, failed) = (p.v(self, t.tick), p.v(self, t.work), p.v(self, self.failed));
+        let (tick, work) = (p.v(self, t.tick), p.v(self, t.work));
+        let alive = self.alive(&mut p);
         p.from(
             "watching",
             "",
             &[format!(
-                "wait [0,0]; on {tick} and {work} and not {failed}; to late"
+                "wait [0,0]; on {tick} and {work} and {alive}; to late"
             )],
         );
         p.from(
             "late",
             "",
             &[
-                format!("/* the tick is taken at the same instant */ wait [0,0]; on not {tick}; to watching"),
+                format!("/* the tick is taken at the same instant (or the component stopped) */ wait [0,0]; on not {tick} or not ({alive}); to watching"),
                 "/* time passes first: an overrun */ wait ]0,1]; to overrun".to_owned(),
             ],
         );
@@ -154,6 +184,7 @@ impl Layout<'_> {
     /// unpaused running ones are due (1.5).
     fn pre_pass(&self, p: &mut Proc, t: &TaskL, runnable: bool) -> String {
         let mut out = Vec::new();
+        let mut ends = false;
         for &s in &t.slots {
             let sl = &self.slots[s];
             let (st, q, due, pz) = (
@@ -162,11 +193,16 @@ impl Layout<'_> {
                 p.v(self, sl.due),
                 p.v(self, sl.pz),
             );
+            let on_path = if self.may_stop(sl) {
+                format!("({st} = 3 or {st} = 4)")
+            } else {
+                format!("{st} = 3")
+            };
             if !runnable {
-                out.push(format!("if {st} = 3 and not {pz} then {due} := true end"));
+                out.push(format!("if {on_path} and not {pz} then {due} := true end"));
                 continue;
             }
-            let resume = format!("{st} = 3 then {pz} := false; {due} := true");
+            let resume = format!("{on_path} then {pz} := false; {due} := true");
             let rs = &self.r.slots[sl.read];
             if rs.service.is_none() {
                 out.push(format!("if {resume} end"));
@@ -174,11 +210,29 @@ impl Layout<'_> {
             }
             let start = match rs.fsm.start {
                 Some(k) => format!("{st} := 3; {q} := {k}; {pz} := false; {due} := true"),
-                None => format!("{st} := 0"),
+                None if self.done.is_empty() && self.ended.is_none() && self.phase.is_none() => {
+                    format!("{st} := 0")
+                }
+                None => {
+                    ends = true;
+                    super::stops::block(&self.end_slot(p, sl, true))
+                }
             };
             out.push(format!("if {st} = 2 then {start} elsif {resume} end"));
         }
+        if ends {
+            let settle = self.settle(p);
+            if !settle.is_empty() {
+                out.push(super::stops::block(&settle));
+            }
+        }
         out.join("; ")
+    }
+
+    /// Whether slot `s` may be on a stop path (status 4): something
+    /// interrupts it, or it is a permanent activity `kill` stops.
+    pub(super) fn may_stop(&self, s: &SlotL) -> bool {
+        s.fl.is_some() || (self.phase.is_some() && self.r.slots[s.read].service.is_none())
     }
 
     fn manager_process(&self, t: &TaskL) -> Proc {
@@ -192,12 +246,12 @@ impl Layout<'_> {
                     Some(_) =>
                         "At each tick it starts the accepted instances and resumes the paused ones (only at a tick, 1.5)",
                     None =>
-                        "Without a period it is activated at any time while an instance waits to start or resume (15.4)",
+                        "Without a period it is activated at any time while an instance is accepted, running or stopping (15.4; as the network)",
                 }
             ),
             &["sleep", "sweep"],
         );
-        let failed = p.v(self, self.failed);
+        let alive = self.alive(&mut p);
         let booted = p.v(self, self.booted);
         let (work, cont, running) = (p.v(self, t.work), p.v(self, t.cont), p.v(self, t.running));
         let wake = self.pre_pass(&mut p, t, true);
@@ -206,7 +260,7 @@ impl Layout<'_> {
         } else {
             format!("{wake}; ")
         };
-        let spawned = format!("not {failed} and {booted} >= {}", t.index);
+        let spawned = format!("{alive} and {booted} >= {}", t.index);
         let sleep = match t.period {
             Some(_) => {
                 let tick = p.v(self, t.tick);
@@ -218,10 +272,7 @@ impl Layout<'_> {
                 let waiting: Vec<String> = t
                     .slots
                     .iter()
-                    .map(|&s| {
-                        let (st, pz) = (p.v(self, self.slots[s].st), p.v(self, self.slots[s].pz));
-                        format!("{st} = 2 or ({st} = 3 and {pz})")
-                    })
+                    .map(|&s| format!("{} >= 2", p.v(self, self.slots[s].st)))
                     .collect();
                 if waiting.is_empty() {
                     Vec::new()
@@ -252,10 +303,10 @@ impl Layout<'_> {
             format!("{again}; ")
         };
         alts.push(format!(
-            "/* sweep again */ wait [0,0]; on not {failed} and not {running}{none_due} and {cont}; {cont} := false; {again}to sweep"
+            "/* sweep again */ wait [0,0]; on {alive} and not {running}{none_due} and {cont}; {cont} := false; {again}to sweep"
         ));
         alts.push(format!(
-            "/* the work of this wake-up is done */ wait [0,0]; on not {failed} and not {running}{none_due} and not {cont}; {work} := false; to sleep"
+            "/* the work of this wake-up is done */ wait [0,0]; on {alive} and not {running}{none_due} and not {cont}; {work} := false; to sleep"
         ));
         p.from("sweep", "", &alts);
         p
@@ -266,10 +317,14 @@ impl Layout<'_> {
     /// and the resource FIFO lets it, after taking a ticket if they are
     /// not (8.3, 15.5). Its codel states are named `states`.
     fn begins(&self, p: &mut Proc, t: &TaskL, sl: &SlotL) -> Vec<String> {
-        let (failed, running) = (p.v(self, self.failed), p.v(self, t.running));
+        let alive = self.alive(p);
+        let running = p.v(self, t.running);
         let (due, q) = (p.v(self, sl.due), p.v(self, sl.q));
-        let ready = format!("not {failed} and not {running} and {due}");
-        let go = format!("{due} := false; {running} := true");
+        let ready = format!("{alive} and not {running} and {due}");
+        let mut go = format!("{due} := false; {running} := true");
+        if let Some(cur) = t.cur {
+            go.push_str(&format!("; {} := {}", p.v(self, cur), sl.turn));
+        }
         let th = super::control::Thread::Task(t.index);
         let mut alts = Vec::new();
         for (k, st) in self.r.slots[sl.read].fsm.states.iter().enumerate() {
@@ -279,6 +334,15 @@ impl Layout<'_> {
                 alts.push(format!("wait [0,0]; on {at}; {go}; to {to}"));
                 continue;
             };
+            if st.is_async {
+                // No lock and no ticket (7.2): it begins when its task
+                // holds no ticket.
+                let pos = p.v(self, tf.pos);
+                alts.push(format!(
+                    "/* async */ wait [0,0]; on {at} and {pos} = 0; {go}; to {to}"
+                ));
+                continue;
+            }
             let run = p.v(self, tf.run);
             let begin = self
                 .may_begin(p, th, Some(sl.turn), st.key)
@@ -314,6 +378,7 @@ impl Layout<'_> {
         );
         let begin = self.begins(&mut p, t, s);
         p.from("idle", "due, it begins its codel", &begin);
+        let killed = self.killed(&mut p, s);
         for (k, st) in rs.fsm.states.iter().enumerate() {
             let w = self.units(st.wcet_ns);
             let note = format!(
@@ -321,27 +386,70 @@ impl Layout<'_> {
                 self.codel_name(st),
                 st.name,
                 at(self, st.span),
-                if st.wcet_ns == 0 {
+                if !self.timed {
+                    "untimed: any duration".to_owned()
+                } else if st.is_async {
+                    format!(
+                        "async: at least {}, no upper bound",
+                        genom_model::duration::format_ns(st.wcet_ns)
+                    )
+                } else if st.wcet_ns == 0 {
                     "no WCET: takes no time".to_owned()
                 } else {
                     format!("WCET {}", genom_model::duration::format_ns(st.wcet_ns))
                 }
             );
+            let wait = if !self.timed {
+                "wait [0,...[".to_owned()
+            } else if st.is_async {
+                format!("wait [{w},...[")
+            } else {
+                format!("wait [0,{w}]")
+            };
             let ends: Vec<String> = self
                 .outcomes(&mut p, s, st)
                 .into_iter()
                 .enumerate()
-                .map(|(i, e)| {
-                    if i == 0 {
-                        format!("wait [0,{w}]; {e}")
-                    } else {
-                        e
-                    }
-                })
+                .map(|(i, e)| if i == 0 { format!("{wait}; {e}") } else { e })
                 .collect();
-            self.select_after_wait(&mut p, &s.states[k], &note, &ends);
+            match &killed {
+                None => self.select_after_wait(&mut p, &s.states[k], &note, &ends),
+                Some(cond) => self.killable(&mut p, &s.states[k], &note, &ends, cond),
+            }
         }
         p
+    }
+
+    /// With `kill`, the condition under which permanent slot `s`'s codel
+    /// was killed by the shutdown (its task no longer runs it).
+    fn killed(&self, p: &mut Proc, s: &SlotL) -> Option<String> {
+        self.phase?;
+        if self.r.slots[s.read].service.is_some() {
+            return None;
+        }
+        let cur = self.tasks[s.task].cur?;
+        Some(format!("{} <> {}", p.v(self, cur), s.turn))
+    }
+
+    /// A permanent codel state the shutdown may kill: its ends (which
+    /// then change nothing) and an urgent drop (10.2: it is forgotten).
+    fn killable(&self, p: &mut Proc, state: &str, note: &str, ends: &[String], cond: &str) {
+        let Some((wait, first)) = ends.first().and_then(|e| e.split_once("; ")) else {
+            p.from(state, note, ends);
+            return;
+        };
+        let mut outcomes = vec![first.to_owned()];
+        outcomes.extend(ends[1..].iter().cloned());
+        let select = if outcomes.len() == 1 {
+            outcomes.remove(0)
+        } else {
+            format!("select {} end", outcomes.join(" [] "))
+        };
+        let alts = [
+            format!("{wait}; if {cond} then to idle else {select} end"),
+            format!("/* killed by the shutdown: forgotten */ wait [0,0]; on {cond}; to idle"),
+        ];
+        p.from(state, note, &alts);
     }
 
     /// A codel state: the `wait` of its duration, then a `select` of its
@@ -390,6 +498,11 @@ impl Layout<'_> {
             Some(f) => format!("{} := 0; {running}", p.v(self, f.run)),
             None => running,
         };
+        let running = match t.cur {
+            Some(c) => format!("{} := 0; {running}", p.v(self, c)),
+            None => running,
+        };
+        let settle = self.settle(p);
         let (stv, q, pz) = (p.v(self, s.st), p.v(self, s.q), p.v(self, s.pz));
         let perm = self.r.slots[s.read].service.is_none();
         let boot = if perm {
@@ -415,18 +528,49 @@ impl Layout<'_> {
             } else {
                 format!("{cont} := true; ")
             };
+            let mut land = format!("{q} := {n}; {pz} := {pause}; ");
+            let mut then = String::new();
+            if let (Some(fl), false) = (s.fl, perm) {
+                then.clone_from(&settle);
+                // Interrupted while it ran: to `stop` (15.6).
+                let fl = p.v(self, fl);
+                land = format!(
+                    "if {fl} and {stv} = 3 then {} else {}; {fl} := false end; ",
+                    super::stops::block(&self.to_stop(p, s)),
+                    super::stops::block(&land)
+                );
+            }
             out.push(format!(
-                "/* yield {}{name} */ {q} := {n}; {pz} := {pause}; {unpaused}{boot}{running} := false; to idle",
+                "/* yield {}{name} */ {land}{unpaused}{boot}{running} := false; {then}to idle",
                 if pause { "pause::" } else { "" }
             ));
         }
-        let end = format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle");
         if !perm {
+            if self.done.is_empty() && self.ended.is_none() && self.phase.is_none() {
+                let end =
+                    format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle");
+                out.push(format!(
+                    "/* ether or an exception: the instance ends */ {end}"
+                ));
+                return out;
+            }
+            let ok = self.end_slot(p, s, true);
+            let ko = self.end_slot(p, s, false);
+            if st.yields.iter().any(|y| y.0.is_none()) {
+                out.push(format!(
+                    "/* ether: the instance ends */ {ok}{running} := false; {settle}to idle"
+                ));
+            }
             out.push(format!(
-                "/* ether or an exception: the instance ends */ {end}"
+                "/* an exception: the instance ends */ {ko}{running} := false; {settle}to idle"
             ));
             return out;
         }
+        let end = if self.phase.is_some() {
+            format!("{}{running} := false; {settle}to idle", self.clear(p, s))
+        } else {
+            format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle")
+        };
         let (b, f) = (p.v(self, self.booted), p.v(self, self.failed));
         if st.yields.iter().any(|y| y.0.is_none()) {
             out.push(format!("/* ether: the activity ends */ {boot}{end}"));

@@ -57,30 +57,39 @@ pub fn paths(
         target: String::new(),
         vars: vars.to_vec(),
     };
-    run.exec(&[body], start)?;
+    run.exec(body, &Cont::Done, start)?;
     Ok(run.out)
 }
 
+/// What is left to run after the current statements: a list of
+/// statements, then what follows them (kept on the stack, so that
+/// running a transition allocates nothing but its paths).
+enum Cont<'a> {
+    /// Nothing: the transition must have ended (`to` or `loop`).
+    Done,
+    /// These statements, then the rest.
+    Then(&'a [Stmt], &'a Cont<'a>),
+}
+
 impl Run<'_> {
-    /// Runs the statements of `todo` (slices in order) on `p`.
-    fn exec(&mut self, todo: &[&[Stmt]], mut p: Path) -> Result<(), String> {
-        let Some((first, rest)) = todo.split_first() else {
-            return Err(format!(
-                "a transition from `{}` ends without `to` or `loop`",
-                self.here
-            ));
-        };
+    /// Runs the statements `first`, then `rest`, on `p`.
+    fn exec(&mut self, first: &[Stmt], rest: &Cont<'_>, mut p: Path) -> Result<(), String> {
         let Some((s, more)) = first.split_first() else {
-            return self.exec(rest, p);
+            return match rest {
+                Cont::Done => Err(format!(
+                    "a transition from `{}` ends without `to` or `loop`",
+                    self.here
+                )),
+                Cont::Then(next, after) => self.exec(next, after, p),
+            };
         };
-        let mut next: Vec<&[Stmt]> = vec![more];
-        next.extend_from_slice(rest);
         self.steps += 1;
         if self.steps > MAX_ITERATIONS {
             return Err(format!("a transition from `{}` does not end", self.here));
         }
+        let next = Cont::Then(more, rest);
         match s {
-            Stmt::Null => self.exec(&next, p),
+            Stmt::Null => self.exec(more, rest, p),
             Stmt::Assign(lhs, rhs) => {
                 let values: Vec<i64> = rhs
                     .iter()
@@ -90,21 +99,21 @@ impl Run<'_> {
                     let i = self.scope.slot(x)?;
                     p.vars[i] = v;
                 }
-                self.exec(&next, p)
+                self.exec(more, rest, p)
             }
             Stmt::On(e) => {
                 if self.eval(e, &p.vars)? == 0 {
                     return Ok(());
                 }
                 p.guarded = true;
-                self.exec(&next, p)
+                self.exec(more, rest, p)
             }
             Stmt::Wait(i) => {
                 if p.interval.is_some() {
                     return Err(format!("two `wait` in one transition from `{}`", self.here));
                 }
                 p.interval = Some(*i);
-                self.exec(&next, p)
+                self.exec(more, rest, p)
             }
             Stmt::To(s) => {
                 p.target.clone_from(s);
@@ -118,9 +127,7 @@ impl Run<'_> {
             }
             Stmt::Select(alts) => {
                 for a in alts {
-                    let mut with: Vec<&[Stmt]> = vec![a.as_slice()];
-                    with.extend_from_slice(&next);
-                    self.exec(&with, p.clone())?;
+                    self.exec(a, &next, p.clone())?;
                 }
                 Ok(())
             }
@@ -132,18 +139,14 @@ impl Run<'_> {
                         break;
                     }
                 }
-                let mut with: Vec<&[Stmt]> = vec![body];
-                with.extend_from_slice(&next);
-                self.exec(&with, p)
+                self.exec(body, &next, p)
             }
             Stmt::While(c, b) => {
                 if self.eval(c, &p.vars)? == 0 {
-                    return self.exec(&next, p);
+                    return self.exec(more, rest, p);
                 }
-                let again = std::slice::from_ref(s);
-                let mut with: Vec<&[Stmt]> = vec![b.as_slice(), again];
-                with.extend_from_slice(&next);
-                self.exec(&with, p)
+                let again = Cont::Then(std::slice::from_ref(s), &next);
+                self.exec(b, &again, p)
             }
         }
     }

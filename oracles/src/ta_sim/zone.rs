@@ -91,24 +91,48 @@ impl Zone {
     /// Intersects with `x op c` (network clock `x`); `!=` is no zone.
     pub fn constrain(&mut self, x: usize, op: CmpOp, c: i64) -> Result<(), String> {
         let x = x + 1;
-        let mut tighten = |i: usize, j: usize, b: i64| {
-            if b < self.at(i, j) {
-                self.set(i, j, b);
-            }
-        };
         match op {
-            CmpOp::Le => tighten(x, 0, le(c)),
-            CmpOp::Lt => tighten(x, 0, lt(c)),
-            CmpOp::Ge => tighten(0, x, le(-c)),
-            CmpOp::Gt => tighten(0, x, lt(-c)),
+            CmpOp::Le => self.tighten(x, 0, le(c)),
+            CmpOp::Lt => self.tighten(x, 0, lt(c)),
+            CmpOp::Ge => self.tighten(0, x, le(-c)),
+            CmpOp::Gt => self.tighten(0, x, lt(-c)),
             CmpOp::Eq => {
-                tighten(x, 0, le(c));
-                tighten(0, x, le(-c));
+                self.tighten(x, 0, le(c));
+                self.tighten(0, x, le(-c));
             }
             CmpOp::Ne => return Err("`!=` on a clock is not a zone".into()),
         }
-        self.close();
         Ok(())
+    }
+
+    /// Intersects the canonical zone with `x_i - x_j` bounded by `b`, and
+    /// keeps it canonical: a path through the new edge is the only one
+    /// that can be shorter, so one pass over the pairs suffices (O(n²)
+    /// instead of a whole Floyd-Warshall).
+    fn tighten(&mut self, i: usize, j: usize, b: i64) {
+        if b >= self.at(i, j) || self.is_empty() {
+            return;
+        }
+        if add(self.at(j, i), b) < le(0) {
+            // A negative cycle: no valuation.
+            self.set(0, 0, lt(0));
+            return;
+        }
+        let n = self.n;
+        let to_i: Vec<i64> = (0..n).map(|k| self.at(k, i)).collect();
+        let from_j: Vec<i64> = (0..n).map(|l| self.at(j, l)).collect();
+        for (k, &ki) in to_i.iter().enumerate() {
+            if ki >= INF {
+                continue;
+            }
+            let kib = add(ki, b);
+            for (l, &jl) in from_j.iter().enumerate() {
+                let via = add(kib, jl);
+                if via < self.at(k, l) {
+                    self.set(k, l, via);
+                }
+            }
+        }
     }
 
     /// Sets network clock `x` to 0.
