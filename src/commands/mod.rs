@@ -6,6 +6,7 @@ mod documents;
 mod explain;
 mod export;
 mod generate;
+mod system;
 mod wcet_template;
 
 use crate::cli::{Cli, Command};
