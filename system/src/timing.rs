@@ -1,17 +1,17 @@
 //! Each component's timing, as the chains use it: which periodic tasks
 //! the timed engine proves never to overrun (every wake-up's work ends
 //! before the next tick), from the component's WCET file, in the steady
-//! state the system file states (services it does not list are taken as
-//! never requested: their codels run in no time, which admits every run
-//! where they are not requested). A chain crosses only such tasks; for
+//! state the system file states (services it does not list are never
+//! requested: the engine explores only the others' requests). A chain crosses only such tasks; for
 //! any other it says why it has no number.
 
 use std::collections::BTreeSet;
 
 use genom_engine::genom3::Machine;
+use genom_engine::genom3::machine::Role;
 use genom_engine::genom3::timed::analysis::analyse_timing;
 use genom_engine::kernel::explore::Limits;
-use genom_model::component::{Component, Duration, ServiceId, ThreadId};
+use genom_model::component::{Component, ServiceId, ThreadId};
 use serde::Serialize;
 
 /// One task's timing.
@@ -49,30 +49,54 @@ impl ComponentTiming {
     }
 }
 
-/// `c` with every codel of a service outside `steady` taking no time.
-fn steady_copy(c: &Component, steady: &BTreeSet<ServiceId>) -> Component {
-    let mut copy = c.clone();
-    let zero = |d: &mut Option<Duration>| {
-        let span = d.map(|x| x.span).unwrap_or_default();
-        *d = Some(Duration { ns: 0, span });
+/// `m` without the activities and control services outside `steady`
+/// (kept: GenoM3's built-in services): the timed engine then explores
+/// only requests of the steady services.
+fn restrict(m: &mut Machine<'_>, steady: &BTreeSet<ServiceId>) {
+    let keep_act: Vec<bool> = m
+        .activities
+        .iter()
+        .map(|a| steady.contains(&a.service))
+        .collect();
+    let keep_ctl: Vec<bool> = m
+        .controls
+        .iter()
+        .map(|k| k.builtin || steady.contains(&k.service))
+        .collect();
+    let mut new_index = Vec::with_capacity(keep_act.len());
+    let mut n = 0;
+    for &k in &keep_act {
+        new_index.push(k.then_some(n));
+        n += usize::from(k);
+    }
+    let remap = |v: &mut Vec<usize>| {
+        *v = v.iter().filter_map(|&i| new_index.get(i).copied().flatten()).collect();
     };
-    let ids: Vec<_> = copy.codels.ids().collect();
-    for k in ids {
-        let Some(codel) = copy.codels.get_mut(k) else {
-            continue;
-        };
-        if !steady.contains(&codel.service) {
-            zero(&mut codel.wcet);
+    let mut kept = keep_act.iter();
+    m.activities.retain(|_| kept.next().copied().unwrap_or(false));
+    let mut kept = keep_ctl.iter();
+    m.controls.retain(|_| kept.next().copied().unwrap_or(false));
+    for a in &mut m.activities {
+        remap(&mut a.interrupts);
+    }
+    for k in &mut m.controls {
+        remap(&mut k.interrupts);
+    }
+    m.role.clear();
+    for (i, a) in m.activities.iter().enumerate() {
+        m.role.insert(a.service, Role::Activity(i));
+    }
+    for (i, k) in m.controls.iter().enumerate() {
+        m.role.insert(k.service, Role::Control(i));
+    }
+    let roles: BTreeSet<ServiceId> = m.role.keys().copied().collect();
+    m.control_codels.retain(|s, _| roles.contains(s));
+    for map in [&mut m.after, &mut m.before] {
+        map.retain(|s, _| roles.contains(s));
+        for v in map.values_mut() {
+            v.retain(|s| roles.contains(s));
         }
     }
-    if let Some(g) = copy.genom3.as_mut() {
-        for info in &mut g.codels {
-            if !steady.contains(&c.codels[info.codel].service) {
-                zero(&mut info.fsm.wcet);
-            }
-        }
-    }
-    copy
 }
 
 /// The timing of `c`'s tasks (named `name` in the system file), in the
@@ -84,21 +108,22 @@ pub fn component_timing(
     steady: Option<&BTreeSet<ServiceId>>,
     limits: Limits,
 ) -> ComponentTiming {
-    let copy = steady.map(|s| steady_copy(c, s));
-    let model = copy.as_ref().unwrap_or(c);
     let mut out = ComponentTiming {
         name: name.to_owned(),
         tasks: Vec::new(),
         states: 0,
     };
-    let Some(m) = Machine::new(model, 1) else {
+    let Some(mut m) = Machine::new(c, 1) else {
         return out;
     };
+    if let Some(s) = steady {
+        restrict(&mut m, s);
+    }
     let analysis = analyse_timing(&m, limits);
     out.states = analysis.as_ref().map_or(0, |a| a.states);
     for (t, task) in m.tasks.iter().enumerate() {
         let period_ns = task.period_ns;
-        let missing = missing_wcet(&m, t);
+        let missing = missing_wcet(&m, t, steady);
         let unbounded = if period_ns.is_none() {
             Some(format!(
                 "task `{}` of `{name}` has no period: nothing bounds when it runs",
@@ -114,10 +139,17 @@ pub fn component_timing(
                 None => Some(format!(
                     "the timed engine does not model `{name}` (too many tasks)"
                 )),
-                Some(a) if a.overruns.iter().any(|o| o.task == t) => Some(format!(
-                    "task `{}` of `{name}` can overrun its period (`genom-check check` on the component shows how)",
-                    task.name
-                )),
+                Some(a) if a.overruns.iter().any(|o| o.task == t) => {
+                    let o = a.overruns.iter().find(|o| o.task == t);
+                    let last = o
+                        .and_then(|o| o.trace.steps.last())
+                        .map(|s| s.text.clone())
+                        .unwrap_or_default();
+                    Some(format!(
+                        "task `{}` of `{name}` can overrun its period in the steady state ({last})",
+                        task.name
+                    ))
+                }
                 Some(a) => {
                     let decided = a.bounded.contains(&t)
                         || a
@@ -145,16 +177,26 @@ pub fn component_timing(
 }
 
 /// The first codel of task `t` (its permanent codels, its activities'
-/// codels, the control codels that can lock against them) without a
-/// WCET, by function name.
-fn missing_wcet(m: &Machine<'_>, t: usize) -> Option<String> {
+/// codels, the control codels of the steady services) without a WCET, by
+/// function name. GenoM3's own copies of an attribute's data (`ids copy`)
+/// have none to give.
+fn missing_wcet(
+    m: &Machine<'_>,
+    t: usize,
+    steady: Option<&BTreeSet<ServiceId>>,
+) -> Option<String> {
     let perm = m.tasks[t].perm.iter().flat_map(|f| f.states.iter());
     let acts = m
         .activities
         .iter()
         .filter(|a| a.task == t)
         .flat_map(|a| a.fsm.states.iter());
-    let ctls = m.control_codels.values().flatten();
+    let ctls = m
+        .control_codels
+        .iter()
+        .filter(|(s, _)| steady.is_none_or(|set| set.contains(s)))
+        .flat_map(|(_, v)| v)
+        .filter(|s| s.codel.is_some());
     perm.chain(acts)
         .chain(ctls)
         .find(|s| s.wcet_ns.is_none())
