@@ -68,20 +68,17 @@ pub fn check_system(
         }
         result.components.push((display(&entry.file), checked));
     }
-    let broken = result
-        .components
-        .iter()
-        .any(|(_, r)| r.component.is_none() || r.diagnostics.iter().any(|d| d.severity == genom_model::Severity::Error));
+    let broken = result.components.iter().any(|(_, r)| {
+        r.component.is_none()
+            || r.diagnostics
+                .iter()
+                .any(|d| d.severity == genom_model::Severity::Error)
+    });
     if broken {
         return Ok(result);
     }
-    let (mut diags, report) = genom_system::analyse(
-        &file,
-        extra,
-        &comps,
-        limits,
-        Span::new(base, base),
-    );
+    let (mut diags, report) =
+        genom_system::analyse(&file, extra, &comps, limits, Span::new(base, base));
     genom_model::diagnostic::sort_diagnostics(&mut diags);
     result.diagnostics = diags;
     result.report = report;

@@ -33,11 +33,8 @@ pub fn run(
         }
     };
     let shown = display(path);
-    let mut reports: Vec<FileReport<'_>> = result
-        .components
-        .iter()
-        .map(|(p, r)| r.report(p))
-        .collect();
+    let mut reports: Vec<FileReport<'_>> =
+        result.components.iter().map(|(p, r)| r.report(p)).collect();
     // Components' own findings: only errors and warnings (their advice
     // is `genom-check check FILE`'s).
     let kept: Vec<Vec<genom_model::Diagnostic>> = reports
@@ -102,7 +99,9 @@ pub fn render_report(result: &SystemResult) -> String {
         for t in &c.tasks {
             let period = t.period_ns.map_or("no period".to_owned(), format_ns);
             let verdict = match &t.unbounded {
-                None => "never overruns (timed engine): its codels run within each period".to_owned(),
+                None => {
+                    "never overruns (timed engine): its codels run within each period".to_owned()
+                }
                 Some(why) => format!("no bound: {why}"),
             };
             let _ = writeln!(out, "  {}.{} ({period}): {verdict}", c.name, t.name);
@@ -113,11 +112,20 @@ pub fn render_report(result: &SystemResult) -> String {
             .deadline_ns
             .map(|d| format!(" (deadline {})", format_ns(d)))
             .unwrap_or_default();
-        let _ = writeln!(out, "\nChains {}{deadline}: {}", req.request, req.chains.len());
+        let _ = writeln!(
+            out,
+            "\nChains {}{deadline}: {}",
+            req.request,
+            req.chains.len()
+        );
         for (i, ch) in req.chains.iter().enumerate() {
             let _ = writeln!(out, "  {}. {} -> {}", i + 1, ch.source, ch.sink);
             for s in &ch.stages {
-                let writes = s.writes.as_deref().map(|w| format!(", writes {w}")).unwrap_or_default();
+                let writes = s
+                    .writes
+                    .as_deref()
+                    .map(|w| format!(", writes {w}"))
+                    .unwrap_or_default();
                 let _ = writeln!(
                     out,
                     "       {}.{} codel {} reads {}{writes}",

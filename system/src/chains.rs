@@ -433,7 +433,10 @@ impl Graph<'_> {
                 age += win;
                 age_trace.push(TraceLine {
                     time_ns: age,
-                    text: format!("{who} ends, at the end of its window: data age {}", format_ns(age)),
+                    text: format!(
+                        "{who} ends, at the end of its window: data age {}",
+                        format_ns(age)
+                    ),
                 });
             }
             reaction_trace.push(TraceLine {

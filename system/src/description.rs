@@ -207,7 +207,12 @@ pub fn parse(text: &str, base: u32, dir: &Path) -> Result<SystemFile, Vec<Diagno
         match parse_duration(s.get_ref()) {
             Ok(ns) => Some(ns),
             Err(m) => {
-                errors.push(Diagnostic::new(Code::BadSystem, m, at(s.span()), "not a duration"));
+                errors.push(Diagnostic::new(
+                    Code::BadSystem,
+                    m,
+                    at(s.span()),
+                    "not a duration",
+                ));
                 None
             }
         }

@@ -94,12 +94,7 @@ fn datum(p: &CodelParam, service: Option<ServiceId>) -> Option<Datum> {
     }
 }
 
-fn site(
-    c: &Component,
-    thread: ThreadId,
-    service: Option<ServiceId>,
-    fsm: &FsmCodel,
-) -> Site {
+fn site(c: &Component, thread: ThreadId, service: Option<ServiceId>, fsm: &FsmCodel) -> Site {
     let mut reads = Vec::new();
     let mut writes = Vec::new();
     for p in &fsm.params {

@@ -98,7 +98,13 @@ pub fn analyse(
         let inputs = c
             .genom3
             .as_deref()
-            .map(|g| g.ports.iter().filter(|p| !p.is_out).map(|p| p.name.name.clone()).collect())
+            .map(|g| {
+                g.ports
+                    .iter()
+                    .filter(|p| !p.is_out)
+                    .map(|p| p.name.name.clone())
+                    .collect()
+            })
             .unwrap_or_default();
         nodes.insert(
             name.clone(),
@@ -143,7 +149,10 @@ pub fn analyse(
                 diags.extend(verdicts(&r, at));
                 report.requests.push(r);
             }
-            Err(d) => diags.push(Diagnostic { labels: relabel(d.labels, at), ..d }),
+            Err(d) => diags.push(Diagnostic {
+                labels: relabel(d.labels, at),
+                ..d
+            }),
         }
     }
     (diags, report)
@@ -224,7 +233,11 @@ fn request(
                 .map(|x| Source::External(x.name.clone(), x.period_ns))
                 .collect();
             for (name, c) in comps {
-                let ports = c.genom3.as_deref().map(|g| g.ports.as_slice()).unwrap_or_default();
+                let ports = c
+                    .genom3
+                    .as_deref()
+                    .map(|g| g.ports.as_slice())
+                    .unwrap_or_default();
                 all.extend(
                     ports
                         .iter()
@@ -244,7 +257,9 @@ fn request(
     Ok(ChainRequest {
         request: format!(
             "{}->{}",
-            spec.from.as_ref().map_or("*".to_owned(), description::Endpoint::text),
+            spec.from
+                .as_ref()
+                .map_or("*".to_owned(), description::Endpoint::text),
             spec.to.text()
         ),
         deadline_ns: spec.deadline_ns,

@@ -33,7 +33,11 @@ pub fn resolve<'a>(
         .with_optional_help(hint.map(|h| format!("did you mean `{h}`?"))));
     };
     let port_name = e.port.as_deref().unwrap_or_default();
-    let ports = c.genom3.as_deref().map(|g| g.ports.as_slice()).unwrap_or_default();
+    let ports = c
+        .genom3
+        .as_deref()
+        .map(|g| g.ports.as_slice())
+        .unwrap_or_default();
     match ports.iter().find(|p| p.name.name == port_name) {
         Some(p) => Ok((name.as_str(), p, &c.types)),
         None => {
@@ -107,10 +111,7 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
             out.push(
                 Diagnostic::new(
                     Code::DuplicateConnection,
-                    format!(
-                        "input `{}.{}` is connected more than once",
-                        key.0, key.1
-                    ),
+                    format!("input `{}.{}` is connected more than once", key.0, key.1),
                     span,
                     format!("fed by {what} here"),
                 )
@@ -136,7 +137,10 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
         if !from.1.is_out {
             out.push(Diagnostic::new(
                 Code::BadConnection,
-                format!("`{}` is an in port: a connection starts at an out port", conn.from.text()),
+                format!(
+                    "`{}` is an in port: a connection starts at an out port",
+                    conn.from.text()
+                ),
                 conn.from.span,
                 "an in port",
             ));
@@ -145,7 +149,10 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
         if to.1.is_out {
             out.push(Diagnostic::new(
                 Code::BadConnection,
-                format!("`{}` is an out port: a connection ends at an in port", conn.to.text()),
+                format!(
+                    "`{}` is an out port: a connection ends at an in port",
+                    conn.to.text()
+                ),
                 conn.to.span,
                 "an out port",
             ));
@@ -168,7 +175,12 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
                 .with_label(conn.from.span, format!("of type `{}`", ty_name(&from))),
             );
         }
-        feed(to, format!("`{}`", conn.from.text()), conn.to.span, &mut out);
+        feed(
+            to,
+            format!("`{}`", conn.from.text()),
+            conn.to.span,
+            &mut out,
+        );
     }
     for ext in &file.externals {
         let mut first: Option<(Resolved<'_>, &Endpoint)> = None;
@@ -183,7 +195,10 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
             if to.1.is_out {
                 out.push(Diagnostic::new(
                     Code::BadConnection,
-                    format!("`{}` is an out port: an external source feeds in ports", e.text()),
+                    format!(
+                        "`{}` is an out port: an external source feeds in ports",
+                        e.text()
+                    ),
                     e.span,
                     "an out port",
                 ));
@@ -216,7 +231,11 @@ pub fn check(file: &SystemFile, comps: &BTreeMap<String, Component>) -> Vec<Diag
         let Some(c) = comps.get(&entry.name) else {
             continue;
         };
-        let ports = c.genom3.as_deref().map(|g| g.ports.as_slice()).unwrap_or_default();
+        let ports = c
+            .genom3
+            .as_deref()
+            .map(|g| g.ports.as_slice())
+            .unwrap_or_default();
         for p in ports.iter().filter(|p| !p.is_out) {
             if !fed.contains_key(&(entry.name.clone(), p.name.name.clone())) {
                 out.push(

@@ -70,10 +70,14 @@ fn restrict(m: &mut Machine<'_>, steady: &BTreeSet<ServiceId>) {
         n += usize::from(k);
     }
     let remap = |v: &mut Vec<usize>| {
-        *v = v.iter().filter_map(|&i| new_index.get(i).copied().flatten()).collect();
+        *v = v
+            .iter()
+            .filter_map(|&i| new_index.get(i).copied().flatten())
+            .collect();
     };
     let mut kept = keep_act.iter();
-    m.activities.retain(|_| kept.next().copied().unwrap_or(false));
+    m.activities
+        .retain(|_| kept.next().copied().unwrap_or(false));
     let mut kept = keep_ctl.iter();
     m.controls.retain(|_| kept.next().copied().unwrap_or(false));
     for a in &mut m.activities {
@@ -152,10 +156,7 @@ pub fn component_timing(
                 }
                 Some(a) => {
                     let decided = a.bounded.contains(&t)
-                        || a
-                            .records
-                            .iter()
-                            .any(|g| g.complete && g.tasks.contains(&t));
+                        || a.records.iter().any(|g| g.complete && g.tasks.contains(&t));
                     (!decided).then(|| {
                         format!(
                             "the timed exploration of `{name}` stopped before deciding task `{}`",
@@ -180,11 +181,7 @@ pub fn component_timing(
 /// codels, the control codels of the steady services) without a WCET, by
 /// function name. GenoM3's own copies of an attribute's data (`ids copy`)
 /// have none to give.
-fn missing_wcet(
-    m: &Machine<'_>,
-    t: usize,
-    steady: Option<&BTreeSet<ServiceId>>,
-) -> Option<String> {
+fn missing_wcet(m: &Machine<'_>, t: usize, steady: Option<&BTreeSet<ServiceId>>) -> Option<String> {
     let perm = m.tasks[t].perm.iter().flat_map(|f| f.states.iter());
     let acts = m
         .activities

@@ -21,15 +21,22 @@ const MS: u64 = 1_000_000;
 /// `inp` and writing port `outp` (when `output`), the last pausing back
 /// to `k0`.
 fn component(name: &str, period_ms: u64, wcets: &[u64], chain: usize, output: bool) -> Component {
-    let mut text = format!("struct sample {{ double v; }};\ncomponent {name} {{\n  port in sample inp;\n");
+    let mut text =
+        format!("struct sample {{ double v; }};\ncomponent {name} {{\n  port in sample inp;\n");
     if output {
         text.push_str("  port out sample outp;\n");
     }
-    text.push_str(&format!("  task t {{\n    period {period_ms} ms;\n    codel<start> s0() yield k0;\n"));
+    text.push_str(&format!(
+        "  task t {{\n    period {period_ms} ms;\n    codel<start> s0() yield k0;\n"
+    ));
     let mut wcet = "t.start 0ms\n".to_owned();
     for (i, w) in wcets.iter().enumerate() {
         let params = if i == chain {
-            if output { "port in inp, port out outp" } else { "port in inp" }
+            if output {
+                "port in inp, port out outp"
+            } else {
+                "port in inp"
+            }
         } else {
             ""
         };
@@ -52,16 +59,27 @@ fn system_text(n: usize, source_ms: u64, extra: &str) -> String {
     for k in 0..n {
         t.push_str(&format!("[component.c{k}]\nfile = \"c{k}.gen\"\n"));
     }
-    t.push_str(&format!("[external.src]\nperiod = \"{source_ms}ms\"\nfeeds = [\"c0.inp\"]\n"));
+    t.push_str(&format!(
+        "[external.src]\nperiod = \"{source_ms}ms\"\nfeeds = [\"c0.inp\"]\n"
+    ));
     for k in 1..n {
-        t.push_str(&format!("[[connect]]\nfrom = \"c{}.outp\"\nto = \"c{k}.inp\"\n", k - 1));
+        t.push_str(&format!(
+            "[[connect]]\nfrom = \"c{}.outp\"\nto = \"c{k}.inp\"\n",
+            k - 1
+        ));
     }
-    t.push_str(&format!("[[chain]]\nfrom = \"src\"\nto = \"c{}.inp\"\n", n - 1));
+    t.push_str(&format!(
+        "[[chain]]\nfrom = \"src\"\nto = \"c{}.inp\"\n",
+        n - 1
+    ));
     t.push_str(extra);
     t
 }
 
-fn run(text: &str, comps: &BTreeMap<String, Component>) -> (Vec<genom_model::Diagnostic>, SystemReport) {
+fn run(
+    text: &str,
+    comps: &BTreeMap<String, Component>,
+) -> (Vec<genom_model::Diagnostic>, SystemReport) {
     let file = parse(text, 0, Path::new(".")).expect("parses");
     analyse(&file, &[], comps, Limits::default(), Span::default())
 }
@@ -98,7 +116,10 @@ fn two_components_by_hand() {
     assert_eq!(from_a[0].data_age_ns, Some(11 * MS));
     assert_eq!(from_a[0].reaction_ns, Some(10 * MS));
     // 13 ms > 12 ms: the deadline is missed, with the timeline.
-    let miss: Vec<_> = diags.iter().filter(|d| d.code == Code::ChainDeadlineMiss).collect();
+    let miss: Vec<_> = diags
+        .iter()
+        .filter(|d| d.code == Code::ChainDeadlineMiss)
+        .collect();
     assert_eq!(miss.len(), 1, "{diags:?}");
     let trace = miss[0].trace.as_ref().expect("a timeline");
     assert_eq!(trace.steps.last().and_then(|s| s.time_ns), Some(13 * MS));
@@ -115,7 +136,10 @@ fn two_components_by_hand() {
         ],
     };
     let exact = chain_sim::exact(&chain, 2_000_000, 100).expect("small");
-    assert!(exact.data_age * MS <= 13 * MS && exact.reaction * MS <= 14 * MS, "{exact:?}");
+    assert!(
+        exact.data_age * MS <= 13 * MS && exact.reaction * MS <= 14 * MS,
+        "{exact:?}"
+    );
 }
 
 /// The port checks: a type mismatch, an input connected twice, an
@@ -142,17 +166,29 @@ fn port_checks_point_into_the_file() {
     assert!(codes.contains(&Code::PortTypeMismatch), "{codes:?}");
     assert!(codes.contains(&Code::UnknownSystemName), "{codes:?}");
     // `a.inp` is fed by nothing.
-    let unconnected: Vec<_> = diags.iter().filter(|d| d.code == Code::UnconnectedInput).collect();
+    let unconnected: Vec<_> = diags
+        .iter()
+        .filter(|d| d.code == Code::UnconnectedInput)
+        .collect();
     assert_eq!(unconnected.len(), 1);
     assert!(unconnected[0].message.contains("a.inp"));
     let at = |needle: &str, nth: usize| -> u32 {
         text.match_indices(needle).nth(nth).expect("in text").0 as u32
     };
-    let dup = diags.iter().find(|d| d.code == Code::DuplicateConnection).unwrap();
+    let dup = diags
+        .iter()
+        .find(|d| d.code == Code::DuplicateConnection)
+        .unwrap();
     assert_eq!(dup.span().start, at("\"b.inp\"", 1));
-    let mismatch = diags.iter().find(|d| d.code == Code::PortTypeMismatch).unwrap();
+    let mismatch = diags
+        .iter()
+        .find(|d| d.code == Code::PortTypeMismatch)
+        .unwrap();
     assert_eq!(mismatch.span().start, at("\"c.inp\"", 0));
-    let unknown = diags.iter().find(|d| d.code == Code::UnknownSystemName).unwrap();
+    let unknown = diags
+        .iter()
+        .find(|d| d.code == Code::UnknownSystemName)
+        .unwrap();
     assert_eq!(unknown.span().start, at("\"a.outq\"", 0));
 }
 
@@ -161,7 +197,10 @@ struct Lcg(u64);
 
 impl Lcg {
     fn below(&mut self, n: u64) -> u64 {
-        self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
         (self.0 >> 33) % n
     }
 }

@@ -129,7 +129,11 @@ fn the_drone_stack() {
             let p = |s: &Value| s["period_ns"].as_u64().expect("period");
             let (last, before) = stages.split_last().expect("a sink");
             let hops: u64 = before.iter().map(|s| p(s) + w(s)).sum();
-            let g0 = if ch["source"] == "pose" { 1_000_000 } else { 10_000_000 };
+            let g0 = if ch["source"] == "pose" {
+                1_000_000
+            } else {
+                10_000_000
+            };
             assert_eq!(age, g0 + hops + w(last), "{ch}");
             let steps = ch["age_trace"].as_array().expect("timeline");
             assert_eq!(steps.last().expect("steps")["time_ns"].as_u64(), Some(age));
