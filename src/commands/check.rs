@@ -13,32 +13,10 @@ use crate::{suppress, terminal};
 
 /// Exploration states allowed when neither `--max-states` nor the
 /// configuration says.
-const DEFAULT_MAX_STATES: usize = 10_000_000;
+pub(super) const DEFAULT_MAX_STATES: usize = 10_000_000;
 
 /// Checks every file, prints, and returns the exit status.
 pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
-    if let Some(system) = &args.system {
-        let config = match config::for_file(system, args.config.as_deref()) {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return EXIT_USAGE;
-            }
-        };
-        let (options, inputs) = effective(args, config.as_ref(), system);
-        let limits = genom_system::Limits {
-            max_states: args
-                .max_states
-                .or(config.as_ref().and_then(|c| c.max_states))
-                .unwrap_or(DEFAULT_MAX_STATES),
-            deadline: args
-                .timeout
-                .or(config.as_ref().and_then(|c| c.timeout))
-                .map(|t| std::time::Instant::now() + t),
-            max_bytes: args.max_memory,
-        };
-        return super::system::run(system, &inputs, &args.chains, &options, limits, output);
-    }
     if args.no_reduction && args.engine == EngineArg::Symbolic {
         eprintln!(
             "error: `--no-reduction` turns off the explicit engine's reductions; `--engine symbolic` has none (use `--engine explicit --no-reduction`)"
@@ -144,7 +122,7 @@ pub(super) fn human_report(reports: &[FileReport<'_>], output: &OutputArgs, colo
 
 /// The options and inputs for `path`: the command line's, else the
 /// configuration's, else the defaults.
-fn effective(
+pub(super) fn effective(
     args: &CheckArgs,
     config: Option<&Config>,
     path: &std::path::Path,

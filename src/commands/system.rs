@@ -13,11 +13,37 @@ use genom_render::{FileReport, escaped, json};
 use genom_system::description::ChainSpec;
 
 use super::{EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
-use crate::cli::{Deny, Format, OutputArgs};
+use crate::cli::{CheckArgs, Deny, Format, OutputArgs};
+use crate::config;
 use crate::terminal;
 
+/// `check --system FILE`: the options (command line, else the
+/// configuration), then [`check`].
+pub fn run(system: &Path, args: &CheckArgs, output: &OutputArgs) -> u8 {
+    let config = match config::for_file(system, args.config.as_deref()) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return EXIT_USAGE;
+        }
+    };
+    let (options, inputs) = super::check::effective(args, config.as_ref(), system);
+    let limits = genom_system::Limits {
+        max_states: args
+            .max_states
+            .or(config.as_ref().and_then(|c| c.max_states))
+            .unwrap_or(super::check::DEFAULT_MAX_STATES),
+        deadline: args
+            .timeout
+            .or(config.as_ref().and_then(|c| c.timeout))
+            .map(|t| std::time::Instant::now() + t),
+        max_bytes: args.max_memory,
+    };
+    check(system, &inputs, &args.chains, &options, limits, output)
+}
+
 /// Checks the system file, prints, and returns the exit status.
-pub fn run(
+fn check(
     path: &Path,
     inputs: &Inputs,
     chains: &[ChainSpec],
