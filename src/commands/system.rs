@@ -120,6 +120,10 @@ pub fn render_report(result: &SystemResult) -> String {
     if r.components.is_empty() {
         return out;
     }
+    out.push_str("\nAssuming:\n");
+    for a in &r.assumptions {
+        let _ = writeln!(out, "  {}", escaped(a));
+    }
     out.push_str("\nTasks (each component a process, each task on its own core):\n");
     for c in &r.components {
         for t in &c.tasks {

@@ -91,9 +91,10 @@ pub struct Stage {
     pub reads: String,
     /// What it writes (`None` for the sink).
     pub writes: Option<String>,
-    /// Its period.
+    /// Its period (the worst of the component's codels doing this step).
     pub period_ns: Option<u64>,
-    /// Its window after the tick.
+    /// Its window after the tick: the latest end of its codel (of the
+    /// component's codels doing this step, for a stage before the sink).
     pub window_ns: Option<u64>,
 }
 
@@ -115,6 +116,9 @@ pub struct ChainReport {
     pub sink: String,
     /// Its stages, source side first.
     pub stages: Vec<Stage>,
+    /// The source's gap: its period (external), or the period plus the
+    /// window of the codels writing it; when bounded.
+    pub source_gap_ns: Option<u64>,
     /// Worst-case data age, when bounded.
     pub data_age_ns: Option<u64>,
     /// Worst-case reaction time, when bounded.
@@ -274,7 +278,17 @@ impl Graph<'_> {
             return Err(why.clone());
         }
         match (t.period_ns, t.window_ns) {
-            (Some(p), Some(w)) => Ok((p, w)),
+            (Some(p), Some(w)) => {
+                // The codel's own latest end after its tick, when explored
+                // (the largest over the states it runs in).
+                let own = site
+                    .states
+                    .iter()
+                    .map(|s| node.timing.window(site.thread, site.service, s))
+                    .collect::<Option<Vec<u64>>>()
+                    .and_then(|v| v.into_iter().max());
+                Ok((p, own.map_or(w, |o| o.min(w))))
+            }
             _ => Err(format!("task `{}` of `{comp}` has no period", site.task)),
         }
     }
@@ -303,7 +317,15 @@ impl Graph<'_> {
         let mut stages = Vec::new();
         for st in path {
             let s = &self.nodes[&st.component].sites[st.site];
-            let win = self.window(&st.component, s).ok();
+            // A stage before the sink: its stream (every codel of the
+            // component doing that step), whose worst the bound takes.
+            let win = match &st.writes {
+                Some(w) => self
+                    .stream(&st.component, Some(&st.reads), w)
+                    .ok()
+                    .map(|(_, win, p)| (p, win)),
+                None => self.window(&st.component, s).ok(),
+            };
             stages.push(Stage {
                 component: st.component.clone(),
                 task: s.task.clone(),
@@ -318,6 +340,7 @@ impl Graph<'_> {
             source: source.text(),
             sink: format!("{sink_comp}.{sink}"),
             stages,
+            source_gap_ns: None,
             data_age_ns: None,
             reaction_ns: None,
             unbounded: None,
@@ -327,6 +350,7 @@ impl Graph<'_> {
         };
         match self.bound(source, path) {
             Ok(b) => {
+                report.source_gap_ns = Some(b.gap);
                 report.data_age_ns = Some(b.age);
                 report.reaction_ns = Some(b.reaction);
                 report.sampling = b.sampling;
@@ -455,6 +479,7 @@ impl Graph<'_> {
             prev_jitter = win;
         }
         Ok(Bound {
+            gap: g0,
             age,
             reaction,
             sampling,
@@ -465,6 +490,7 @@ impl Graph<'_> {
 }
 
 struct Bound {
+    gap: u64,
     age: u64,
     reaction: u64,
     sampling: Vec<String>,

@@ -50,6 +50,8 @@ pub struct SystemReport {
     pub components: Vec<ComponentTiming>,
     /// The chain requests, in order (the file's, then the command line's).
     pub requests: Vec<ChainRequest>,
+    /// What the figures rest on besides the `.gen` files.
+    pub assumptions: Vec<String>,
 }
 
 /// Checks the system `file` whose components are `comps` (by their names
@@ -89,6 +91,7 @@ pub fn analyse(
     if requests.is_empty() || diags.iter().any(|d| d.severity == Severity::Error) {
         return (diags, report);
     }
+    report.assumptions = assumptions(file);
     // Each component's timing and codels.
     let mut nodes = BTreeMap::new();
     for (name, c) in comps {
@@ -156,6 +159,37 @@ pub fn analyse(
         }
     }
     (diags, report)
+}
+
+/// What the bounds rest on: the WCET files, the steady state, one request
+/// of each activity at a time, the platform.
+fn assumptions(file: &SystemFile) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in &file.components {
+        let wcet = c.wcet.as_ref().map_or_else(
+            || "no WCET file (its codels take no time)".to_owned(),
+            |w| format!("every codel takes at most its WCET from `{}`", w.display()),
+        );
+        let steady = c.steady.as_ref().map_or_else(
+            || "every service may be requested".to_owned(),
+            |list| {
+                let names: Vec<&str> = list.iter().map(|(n, _)| n.as_str()).collect();
+                format!(
+                    "clients request only {} (and GenoM3's built-in services)",
+                    names.join(", ")
+                )
+            },
+        );
+        out.push(format!(
+            "`{}`: {wcet}; {steady}; at most 1 concurrent request of each activity",
+            c.name
+        ));
+    }
+    out.push(
+        "each component is a process and each task runs on its own core; ticks of different components have any phase; every codel of a chain runs in every wake-up of its task (steady state)"
+            .to_owned(),
+    );
+    out
 }
 
 fn relabel(mut labels: Vec<genom_model::Label>, at: Span) -> Vec<genom_model::Label> {

@@ -8,8 +8,9 @@
 use std::collections::BTreeSet;
 
 use genom_engine::genom3::Machine;
-use genom_engine::genom3::machine::Role;
+use genom_engine::genom3::machine::{Owner, Role};
 use genom_engine::genom3::timed::analysis::analyse_timing;
+use genom_engine::genom3::timed::windows::codel_windows;
 use genom_engine::kernel::explore::Limits;
 use genom_model::component::{Component, ServiceId, ThreadId};
 use serde::Serialize;
@@ -31,6 +32,22 @@ pub struct TaskTiming {
     pub unbounded: Option<String>,
 }
 
+/// The latest end of one codel after its wake-up's tick, as the timed
+/// engine explored it.
+#[derive(Debug, Clone, Serialize)]
+pub struct CodelWindow {
+    /// Its task's thread (not serialised).
+    #[serde(skip)]
+    pub thread: ThreadId,
+    /// Its activity (`None`: the task's permanent codels; not serialised).
+    #[serde(skip)]
+    pub service: Option<ServiceId>,
+    /// `owner.state`.
+    pub codel: String,
+    /// Its latest end after the tick.
+    pub end_ns: u64,
+}
+
 /// A component's tasks' timing.
 #[derive(Debug, Clone, Serialize)]
 pub struct ComponentTiming {
@@ -38,6 +55,10 @@ pub struct ComponentTiming {
     pub name: String,
     /// Its tasks, in declaration order.
     pub tasks: Vec<TaskTiming>,
+    /// Per codel of its periodic tasks, its latest end after the tick
+    /// (empty when the exploration could not give them: then windows are
+    /// whole periods).
+    pub windows: Vec<CodelWindow>,
     /// Timed states the engine explored for it.
     pub states: u64,
 }
@@ -46,6 +67,19 @@ impl ComponentTiming {
     /// The timing of the task on `thread`.
     pub fn task(&self, thread: ThreadId) -> Option<&TaskTiming> {
         self.tasks.iter().find(|t| t.thread == thread)
+    }
+
+    /// The latest end after the tick of the codel of `service` (`None`:
+    /// permanent) on `thread` running in `state`, when explored.
+    pub fn window(&self, thread: ThreadId, service: Option<ServiceId>, state: &str) -> Option<u64> {
+        self.windows
+            .iter()
+            .find(|w| {
+                w.thread == thread
+                    && w.service == service
+                    && w.codel.rsplit_once('.').is_some_and(|(_, s)| s == state)
+            })
+            .map(|w| w.end_ns)
     }
 }
 
@@ -115,6 +149,7 @@ pub fn component_timing(
     let mut out = ComponentTiming {
         name: name.to_owned(),
         tasks: Vec::new(),
+        windows: Vec::new(),
         states: 0,
     };
     let Some(mut m) = Machine::new(c, 1) else {
@@ -124,6 +159,31 @@ pub fn component_timing(
         restrict(&mut m, s);
     }
     let analysis = analyse_timing(&m, limits);
+    let overruns = analysis.as_ref().is_none_or(|a| !a.overruns.is_empty());
+    if !overruns && let Some(found) = codel_windows(&m, limits) {
+        for ((owner, state), end_ns) in found {
+            let (thread, service, name) = match owner {
+                Owner::Task(t) => (m.tasks[t].thread, None, m.tasks[t].name.clone()),
+                Owner::Activity(a) => {
+                    let sid = m.activities[a].service;
+                    (
+                        m.tasks[m.activities[a].task].thread,
+                        Some(sid),
+                        c.services[sid].name.name.clone(),
+                    )
+                }
+            };
+            let Some(st) = m.fsm(owner).states.get(usize::from(state)) else {
+                continue;
+            };
+            out.windows.push(CodelWindow {
+                thread,
+                service,
+                codel: format!("{name}.{}", st.name),
+                end_ns,
+            });
+        }
+    }
     out.states = analysis.as_ref().map_or(0, |a| a.states);
     for (t, task) in m.tasks.iter().enumerate() {
         let period_ns = task.period_ns;

@@ -86,16 +86,18 @@ fn run(
 
 /// Two components, one chain. `src` publishes every 2 ms into `a` (period
 /// 4 ms, codels of 1 ms and 2 ms, the first the chain's), which feeds `b`
-/// (period 3 ms, one codel of 1 ms). Each task's window is its period (no
-/// task overruns: 3 ms of work in 4, 1 in 3).
+/// (period 3 ms, one codel of 1 ms). No task overruns (3 ms of work in 4,
+/// 1 in 3), and each codel's window (its latest end after its tick) is
+/// what precedes it in the wake-up plus its WCET: `a`'s chain codel runs
+/// first, 1 ms; `b`'s, 1 ms.
 ///
 /// Data age (`a` reads a sample less than 2 ms old; `b` reads what `a`
-/// wrote less than 4 + 4 ms after `a`'s read; `b`'s codel ends within 3 ms
-/// of its tick): 2 + 8 + 3 = 13 ms.
+/// wrote less than 4 + 1 ms after `a`'s read; `b`'s codel ends within 1 ms
+/// of its tick): 2 + 5 + 1 = 8 ms.
 /// Reaction (the first tick of `a` after the sample comes within 4 ms and
-/// its write 4 ms after that tick; the same for `b`, 3 + 3): 8 + 6 = 14 ms.
-/// From `a.outp` (age from the start of `a`'s codel): 8 + 3 = 11 ms; its
-/// reaction, from that start: its write within 4 ms, then `b`: 10 ms.
+/// its write 1 ms after that tick; the same for `b`, 3 + 1): 5 + 4 = 9 ms.
+/// From `a.outp` (age from the start of `a`'s codel): 5 + 1 = 6 ms; its
+/// reaction, from that start: its write within 1 ms, then `b`: 5 ms.
 #[test]
 fn two_components_by_hand() {
     let mut comps = BTreeMap::new();
@@ -104,25 +106,25 @@ fn two_components_by_hand() {
     let text = "[component.a]\nfile = \"a.gen\"\n[component.b]\nfile = \"b.gen\"\n\
         [external.src]\nperiod = \"2ms\"\nfeeds = [\"a.inp\"]\n\
         [[connect]]\nfrom = \"a.outp\"\nto = \"b.inp\"\n\
-        [[chain]]\nfrom = \"src\"\nto = \"b.inp\"\ndeadline = \"12ms\"\n\
+        [[chain]]\nfrom = \"src\"\nto = \"b.inp\"\ndeadline = \"7ms\"\n\
         [[chain]]\nfrom = \"a.outp\"\nto = \"b\"\n";
     let (diags, report) = run(text, &comps);
     let from_src = &report.requests[0].chains;
     assert_eq!(from_src.len(), 1);
-    assert_eq!(from_src[0].data_age_ns, Some(13 * MS));
-    assert_eq!(from_src[0].reaction_ns, Some(14 * MS));
+    assert_eq!(from_src[0].data_age_ns, Some(8 * MS));
+    assert_eq!(from_src[0].reaction_ns, Some(9 * MS));
     let from_a = &report.requests[1].chains;
     assert_eq!(from_a.len(), 1);
-    assert_eq!(from_a[0].data_age_ns, Some(11 * MS));
-    assert_eq!(from_a[0].reaction_ns, Some(10 * MS));
-    // 13 ms > 12 ms: the deadline is missed, with the timeline.
+    assert_eq!(from_a[0].data_age_ns, Some(6 * MS));
+    assert_eq!(from_a[0].reaction_ns, Some(5 * MS));
+    // 8 ms > 7 ms: the deadline is missed, with the timeline.
     let miss: Vec<_> = diags
         .iter()
         .filter(|d| d.code == Code::ChainDeadlineMiss)
         .collect();
     assert_eq!(miss.len(), 1, "{diags:?}");
     let trace = miss[0].trace.as_ref().expect("a timeline");
-    assert_eq!(trace.steps.last().and_then(|s| s.time_ns), Some(13 * MS));
+    assert_eq!(trace.steps.last().and_then(|s| s.time_ns), Some(8 * MS));
     // The timeline's instants add up: each stage reads before the previous
     // one's next write, the sink ends one window after its read.
     let times: Vec<u64> = from_src[0].age_trace.iter().map(|l| l.time_ns).collect();
