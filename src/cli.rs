@@ -135,8 +135,22 @@ pub struct CompletionsArgs {
 #[derive(Debug, Clone, Args)]
 pub struct CheckArgs {
     /// Component description files (`.gen`); `-` reads standard input.
-    #[arg(required = true, value_name = "FILE")]
+    #[arg(required_unless_present = "system", value_name = "FILE")]
     pub files: Vec<PathBuf>,
+
+    /// Check a functional layer instead: a system file (TOML) naming
+    /// components, their WCET files, their port connections, external
+    /// sources and cause-effect chains (docs/functional-layer.md).
+    #[arg(long, value_name = "FILE", conflicts_with = "files")]
+    pub system: Option<PathBuf>,
+
+    /// With `--system`: a cause-effect chain to bound, `FROM->TO` or
+    /// `FROM->TO<=DEADLINE` (`maneuver.desired->rotorcraft.rotor_input<=30ms`);
+    /// `FROM` is an out port or an external source, `TO` an in port or a
+    /// component (its every in port); `TO` alone takes every source
+    /// (repeatable).
+    #[arg(long = "chain", value_name = "CHAIN", requires = "system", value_parser = parse_chain)]
+    pub chains: Vec<genom_system::description::ChainSpec>,
 
     /// How the files are read.
     #[command(flatten)]
@@ -283,6 +297,11 @@ pub(crate) fn parse_duration(text: &str) -> Result<std::time::Duration, String> 
         return Err(format!("`{text}` must be positive"));
     }
     Ok(parsed)
+}
+
+/// Parses `--chain FROM->TO<=DURATION`.
+fn parse_chain(text: &str) -> Result<genom_system::description::ChainSpec, String> {
+    genom_system::description::parse_chain_arg(text)
 }
 
 /// Parses `--deadline SERVICE=DURATION` (the duration as `--timeout`'s,

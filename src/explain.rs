@@ -72,6 +72,7 @@ fn owners(code: Code) -> impl Iterator<Item = &'static str> {
         .iter()
         .filter_map(move |f| f.explanation(code))
         .chain(genom_checker::checks::explanation(code))
+        .chain(genom_system::explanation(code))
 }
 
 fn capitalise(s: &str) -> String {

@@ -5,9 +5,11 @@
 
 pub mod explain;
 mod pipeline;
+mod system;
 mod types;
 
 pub use pipeline::{
     CheckOptions, FRONTENDS, check_file, check_path, check_source, check_text, detect, frontend,
 };
+pub use system::{SystemResult, check_system};
 pub use types::{CheckResult, InputError, Inputs, display, is_stdin};

@@ -175,6 +175,22 @@ codes! {
     UnpausedLoop = "unpaused-loop", Warning, "a reachable cycle of GenoM3 codel transitions without `pause::` or `async`: the task may sweep it many times in one period, or busy-spin between events without a period";
     /// A malformed or unresolved line of a WCET side file.
     BadWcet = "bad-wcet", Error, "a WCET side-file line that is malformed or names an unknown owner or state";
+    /// A system file that does not parse or has a bad value.
+    BadSystem = "bad-system", Error, "a system file (`--system`) that does not parse, or a key or value it does not accept";
+    /// A system file names a component, port or source that does not exist.
+    UnknownSystemName = "unknown-system-name", Error, "a system file names a component, port or external source that does not exist";
+    /// Two connected ports of different types.
+    PortTypeMismatch = "port-type-mismatch", Error, "a system file connects two ports whose IDL types differ";
+    /// An input connected more than once.
+    DuplicateConnection = "duplicate-connection", Error, "a system file connects one input port more than once";
+    /// A bad connection direction.
+    BadConnection = "bad-connection", Error, "a system file connects a port the wrong way (an input as a source, an output as a target)";
+    /// An input port that nothing feeds.
+    UnconnectedInput = "unconnected-input", Warning, "an input port of a system's component that no connection or external source feeds";
+    /// A cause-effect chain whose data age or reaction time exceeds its deadline.
+    ChainDeadlineMiss = "chain-deadline-miss", Error, "a cause-effect chain's worst-case data age or reaction time exceeds its deadline, or cannot be bounded";
+    /// A cause-effect chain that gets no bound.
+    ChainUnbounded = "chain-unbounded", Warning, "a cause-effect chain gets no data age bound: a task on it is aperiodic, may overrun, or lacks WCETs";
 }
 
 impl fmt::Display for Code {

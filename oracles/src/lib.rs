@@ -18,9 +18,12 @@
 //!   breadth-first search, and the graph of its stable markings;
 //! - [`ta_sim`]: an interpreter of timed-automata networks (explicit
 //!   locations and variables, clocks as zones);
+//! - [`chain_sim`]: the exact data age and reaction time of a chain of
+//!   periodic tasks, by exhaustive discrete-time simulation;
 //! - [`fiacre`]: a parser of Fiacre models and an interpreter of the timed
 //!   subset the GenoM3 `fiacre` export uses (clocks as zones).
 
+pub mod chain_sim;
 pub mod fiacre;
 pub mod petri;
 pub mod replay;

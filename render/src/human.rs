@@ -230,6 +230,11 @@ pub fn render_timeline(trace: &Trace) -> String {
             items.push(item);
         }
     }
+    if threads.is_empty() {
+        // A timed trace whose steps name no thread (a chain's timeline
+        // across components) has no per-thread line to draw.
+        return String::new();
+    }
     let width = threads
         .iter()
         .map(|(n, _)| n.chars().count())

@@ -13,7 +13,7 @@ use crate::{suppress, terminal};
 
 /// Exploration states allowed when neither `--max-states` nor the
 /// configuration says.
-const DEFAULT_MAX_STATES: usize = 10_000_000;
+pub(super) const DEFAULT_MAX_STATES: usize = 10_000_000;
 
 /// Checks every file, prints, and returns the exit status.
 pub fn run(args: &CheckArgs, output: &OutputArgs) -> u8 {
@@ -122,7 +122,7 @@ pub(super) fn human_report(reports: &[FileReport<'_>], output: &OutputArgs, colo
 
 /// The options and inputs for `path`: the command line's, else the
 /// configuration's, else the defaults.
-fn effective(
+pub(super) fn effective(
     args: &CheckArgs,
     config: Option<&Config>,
     path: &std::path::Path,

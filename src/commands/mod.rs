@@ -6,6 +6,7 @@ mod documents;
 mod explain;
 mod export;
 mod generate;
+mod system;
 mod wcet_template;
 
 use crate::cli::{Cli, Command};
@@ -26,7 +27,10 @@ pub fn run(cli: Cli) -> u8 {
 
 fn command(cli: Cli) -> u8 {
     match cli.command {
-        Some(Command::Check(args)) => check::run(&args, &cli.output),
+        Some(Command::Check(args)) => match &args.system {
+            Some(system) => system::run(system, &args, &cli.output),
+            None => check::run(&args, &cli.output),
+        },
         Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::Export(args)) => export::run(&args, &cli.output),
         Some(Command::Generate(args)) => generate::run(&args),
@@ -35,6 +39,9 @@ fn command(cli: Cli) -> u8 {
         Some(Command::Completions(args)) => documents::completions(&args),
         Some(Command::Manpage) => documents::manpage(),
         Some(Command::Lsp(args)) => crate::lsp::run(&args),
-        None => check::run(&cli.check, &cli.output),
+        None => match &cli.check.system {
+            Some(system) => system::run(system, &cli.check, &cli.output),
+            None => check::run(&cli.check, &cli.output),
+        },
     }
 }

@@ -14,3 +14,4 @@ mod export_cli;
 mod generate;
 mod genom3_generate;
 mod project_config;
+mod system;

@@ -45,6 +45,7 @@ mod requests;
 pub mod response;
 mod steps;
 pub mod trace;
+pub mod windows;
 
 use std::collections::BTreeMap;
 
