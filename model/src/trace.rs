@@ -83,6 +83,11 @@ pub struct TraceStep {
     pub span: Option<Span>,
     /// A sentence describing the step.
     pub text: String,
+    /// A step of a thread that plays no part in the finding (no thread
+    /// involved in it waited for that thread's codels nor behind its
+    /// tickets): kept, since a replay needs it, and left out of human
+    /// output.
+    pub aside: bool,
 }
 
 impl TraceStep {
@@ -97,6 +102,7 @@ impl TraceStep {
             outcome: None,
             span: None,
             text: text.into(),
+            aside: false,
         }
     }
 }
@@ -110,19 +116,18 @@ pub struct Trace {
     pub steps: Vec<TraceStep>,
     /// Where the repeating cycle starts, for lasso-shaped traces.
     pub loop_start: Option<usize>,
-    /// Threads that play no part in the finding: no codel of the threads
-    /// it involves waited for theirs, nor behind their tickets. Their
-    /// steps stay in the trace (a replay needs their ticks and codels) and
-    /// are folded in human output.
-    pub aside: Vec<String>,
 }
 
 impl Trace {
-    /// Whether step `k` is one of a thread set [`Trace::aside`].
-    pub fn is_aside(&self, k: usize) -> bool {
-        self.steps
-            .get(k)
-            .and_then(|s| s.thread.as_ref())
-            .is_some_and(|t| self.aside.contains(t))
+    /// The threads whose steps are set aside ([`TraceStep::aside`]), in
+    /// the order they first appear.
+    pub fn aside_threads(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for s in self.steps.iter().filter(|s| s.aside) {
+            if let Some(t) = s.thread.as_deref().filter(|t| !out.contains(t)) {
+                out.push(t);
+            }
+        }
+        out
     }
 }

@@ -126,7 +126,7 @@ pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
     let mut out = String::from("  trace:\n");
     out.push_str(&aside_note(trace).unwrap_or_default());
     for (i, step) in trace.steps.iter().enumerate() {
-        if trace.is_aside(i) {
+        if step.aside {
             continue;
         }
         if trace.loop_start == Some(i) {
@@ -147,12 +147,11 @@ pub fn render_trace(sources: &SourceMap, trace: &Trace) -> String {
 }
 
 /// The line saying which threads' steps a trace leaves out
-/// ([`Trace::aside`]), if any.
+/// ([`genom_model::trace::TraceStep::aside`]), if any.
 fn aside_note(trace: &Trace) -> Option<String> {
     let shown: Vec<String> = trace
-        .aside
+        .aside_threads()
         .iter()
-        .filter(|t| trace.steps.iter().any(|s| s.thread.as_ref() == Some(*t)))
         .map(|t| format!("`{t}`"))
         .collect();
     if shown.is_empty() {
@@ -174,7 +173,7 @@ pub fn render_timeline(trace: &Trace) -> String {
         let (Some(thread), Some(t)) = (&step.thread, step.time_ns) else {
             continue;
         };
-        if trace.aside.contains(thread) {
+        if step.aside {
             continue;
         }
         let item = match step.event {

@@ -161,7 +161,7 @@ pub struct JsonStep {
     /// Whether this step starts the cycle that repeats forever.
     pub loop_start: bool,
     /// Whether this step is one of a thread that plays no part in the
-    /// finding ([`Trace::aside`]; folded in human output).
+    /// finding (`TraceStep::aside`; left out of human output).
     pub aside: bool,
     /// Description.
     pub text: String,
@@ -273,11 +273,7 @@ fn trace(sources: &SourceMap, t: &Trace) -> Vec<JsonStep> {
     t.steps
         .iter()
         .enumerate()
-        .map(|(i, s)| {
-            let mut j = step(sources, i, s, t.loop_start == Some(i));
-            j.aside = t.is_aside(i);
-            j
-        })
+        .map(|(i, s)| step(sources, i, s, t.loop_start == Some(i)))
         .collect()
 }
 
@@ -291,7 +287,7 @@ fn step(sources: &SourceMap, i: usize, s: &TraceStep, loop_start: bool) -> JsonS
         codel: s.codel.clone(),
         outcome: s.outcome.clone(),
         loop_start,
-        aside: false,
+        aside: s.aside,
         text: s.text.clone(),
         location: s.span.map(|sp| location(sources, sp)),
     }

@@ -145,7 +145,7 @@ impl ChainReport {
                     ..TraceStep::new(Event::Delay, l.text.clone())
                 })
                 .collect(),
-            loop_start: None,
+            ..Trace::default()
         }
     }
 }

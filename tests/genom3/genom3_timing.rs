@@ -552,15 +552,17 @@ fn overrun_traces_set_aside_the_tasks_that_play_no_part() {
     {
         let t = d.trace.as_ref().expect("a trace");
         replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));
-        set_aside += t.aside.len();
+        set_aside += t.aside_threads().len();
         // Every other task of the trace, set aside too, is refused unless
         // it plays no part either.
         for task in ["pose_port_refresh", "apriltag_detection", "image_display"] {
-            if t.aside.iter().any(|a| a == task) {
+            if t.aside_threads().contains(&task) {
                 continue;
             }
             let mut more = t.clone();
-            more.aside.push(task.to_owned());
+            for s in &mut more.steps {
+                s.aside |= s.thread.as_deref() == Some(task);
+            }
             if replay_genom3_timed(c, 1, &more).is_err() {
                 refused += 1;
             }
@@ -574,7 +576,7 @@ fn overrun_traces_set_aside_the_tasks_that_play_no_part() {
         .find(|d| d.code == Code::ThreadOverrun && d.message.contains("`apriltag_detection`"))
         .and_then(|d| d.trace.as_ref())
         .expect("apriltag_detection overruns");
-    assert_eq!(apriltag.aside, ["pose_port_refresh"]);
+    assert_eq!(apriltag.aside_threads(), ["pose_port_refresh"]);
     // The human report: no step of `pose_port_refresh` under that finding.
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_genom-check"))
         .args([

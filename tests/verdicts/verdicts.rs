@@ -1113,7 +1113,6 @@ fn the_explorer_replies_timeout_after_a_watchdog_and_cleanup_codels() {
     let trace = Trace {
         steps,
         loop_start: None,
-        aside: Vec::new(),
     };
     let lines = trace_lines(&trace);
     assert_eq!(

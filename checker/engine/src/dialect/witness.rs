@@ -57,11 +57,7 @@ pub(crate) fn replay(
         }
     }
     steps.push(last);
-    Trace {
-        steps,
-        loop_start,
-        aside: Vec::new(),
-    }
+    Trace { steps, loop_start }
 }
 
 /// Whether `actions` can be applied one after the other from `cfg`.

@@ -43,7 +43,6 @@ pub fn render(engine: &Engine<'_>, path: &[G3Action]) -> Trace {
     Trace {
         steps,
         loop_start: None,
-        aside: Vec::new(),
     }
 }
 

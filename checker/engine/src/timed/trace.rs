@@ -170,11 +170,7 @@ fn instants(
         .map(|&(_, first)| first);
     let Some((values, scale)) = zone.pick() else {
         steps.push(last);
-        return Trace {
-            steps,
-            loop_start,
-            aside: Vec::new(),
-        };
+        return Trace { steps, loop_start };
     };
     let now = values[base];
     let to_ns = |units_scaled: i64| {
@@ -192,11 +188,7 @@ fn instants(
     }
     last.time_ns = Some(to_ns(now));
     steps.push(last);
-    Trace {
-        steps,
-        loop_start,
-        aside: Vec::new(),
-    }
+    Trace { steps, loop_start }
 }
 
 /// The valuations reached by letting time pass after `st` while ignoring

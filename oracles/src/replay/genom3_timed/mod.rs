@@ -641,19 +641,30 @@ impl<'m, 'c> Sim<'m, 'c> {
 }
 
 /// The tasks `trace` sets aside as playing no part in its finding
-/// ([`Trace::aside`]): known tasks, and not the one whose tick ends it.
+/// (`TraceStep::aside`): known tasks, and not the one whose tick ends it.
+/// A thread's steps are all set aside or none.
 fn aside_tasks(m: &Rules<'_>, trace: &Trace) -> Result<Vec<usize>, String> {
     let last = trace.steps.iter().rev().find_map(|s| s.thread.as_deref());
-    trace
-        .aside
+    let names = trace.aside_threads();
+    if let Some(s) = trace
+        .steps
         .iter()
+        .find(|s| !s.aside && s.thread.as_deref().is_some_and(|t| names.contains(&t)))
+    {
+        return Err(format!(
+            "some steps of `{}` only are set aside",
+            s.thread.as_deref().unwrap_or_default()
+        ));
+    }
+    names
+        .into_iter()
         .map(|name| {
-            if Some(name.as_str()) == last {
+            if Some(name) == last {
                 return Err(format!("the overrunning task `{name}` is set aside"));
             }
             m.tasks
                 .iter()
-                .position(|t| &t.name == name)
+                .position(|t| t.name == name)
                 .ok_or_else(|| format!("no task `{name}` to set aside"))
         })
         .collect()

@@ -438,6 +438,7 @@ impl<'a> System<'a> {
             outcome,
             span: Some(span),
             text,
+            aside: false,
         });
     }
 }

@@ -1,5 +1,5 @@
 //! The threads an overrun trace shows that play no part in the overrun
-//! ([`genom_model::trace::Trace::aside`]). A thread plays a part when it
+//! ([`genom_model::trace::TraceStep::aside`]). A thread plays a part when it
 //! is the overrunning task or the control thread (which takes the
 //! requests), or when a thread that plays a part took a ticket while it
 //! ran a codel or held a ticket ahead: from a ticket on, only those codels
@@ -17,7 +17,7 @@ use super::{CTL, TG3Action, TG3State, TimedEngine};
 /// A thread: a task, or `None` for the control thread.
 type Thread = Option<usize>;
 
-/// Sets `trace.aside` for the overrun of task `task` that `path` reaches.
+/// Marks the steps of `trace` set aside for the overrun of task `task` that `path` reaches.
 pub fn set_aside(te: &TimedEngine<'_>, path: &[TG3Action], task: usize, trace: &mut Trace) {
     let mut waits: Vec<(Thread, Vec<Thread>)> = Vec::new();
     walk(te, path, |_, before, after, _| {
@@ -39,11 +39,13 @@ pub fn set_aside(te: &TimedEngine<'_>, path: &[TG3Action], task: usize, trace: &
         }
     }
     let m = te.m();
-    trace.aside = (0..m.tasks.len())
+    let aside: Vec<&str> = (0..m.tasks.len())
         .filter(|&t| te.in_group[t] && !part.contains(&Some(t)))
-        .map(|t| m.tasks[t].name.clone())
-        .filter(|name| trace.steps.iter().any(|s| s.thread.as_ref() == Some(name)))
+        .map(|t| m.tasks[t].name.as_str())
         .collect();
+    for s in &mut trace.steps {
+        s.aside = s.thread.as_deref().is_some_and(|t| aside.contains(&t));
+    }
 }
 
 /// The thread of a queue entry.

@@ -52,7 +52,6 @@ pub fn timed_trace_beyond(
     let mut trace = Trace {
         steps,
         loop_start: None,
-        aside: Vec::new(),
     };
     if let Some((x, c, strict)) = beyond {
         let b = if strict { lt(-c) } else { le(-(c + 1)) };
