@@ -409,10 +409,7 @@ impl Layout<'_> {
             let (ends, tail) = self.outcomes(&mut p, s, st);
             let select = match ends.as_slice() {
                 [one] => one.clone(),
-                _ => format!(
-                    "select\n      {}\n    end",
-                    ends.join("\n    []\n      ")
-                ),
+                _ => format!("select\n      {}\n    end", ends.join("\n    []\n      ")),
             };
             let body = match &killed {
                 None => format!("{wait};\n    {select};\n    {tail}"),
