@@ -406,16 +406,23 @@ impl Layout<'_> {
             } else {
                 format!("wait [0,{w}]")
             };
-            let ends: Vec<String> = self
-                .outcomes(&mut p, s, st)
-                .into_iter()
-                .enumerate()
-                .map(|(i, e)| if i == 0 { format!("{wait}; {e}") } else { e })
-                .collect();
-            match &killed {
-                None => self.select_after_wait(&mut p, &s.states[k], &note, &ends),
-                Some(cond) => self.killable(&mut p, &s.states[k], &note, &ends, cond),
-            }
+            let (ends, tail) = self.outcomes(&mut p, s, st);
+            let select = match ends.as_slice() {
+                [one] => one.clone(),
+                _ => format!("select\n      {}\n    end", ends.join("\n    []\n      ")),
+            };
+            let body = match &killed {
+                None => format!("{wait};\n    {select};\n    {tail}"),
+                Some(cond) => format!(
+                    "select\n      {wait}; if {cond} then to idle else {select}; {tail} end\n    []\n      /* killed by the shutdown: forgotten */ wait [0,0]; on {cond}; to idle\n    end"
+                ),
+            };
+            let _ = writeln!(
+                p.froms,
+                "  from {}  /* {} */\n    {body}",
+                s.states[k],
+                comment(&note)
+            );
         }
         p
     }
@@ -429,27 +436,6 @@ impl Layout<'_> {
         }
         let cur = self.tasks[s.task].cur?;
         Some(format!("{} <> {}", p.v(self, cur), s.turn))
-    }
-
-    /// A permanent codel state the shutdown may kill: its ends (which
-    /// then change nothing) and an urgent drop (10.2: it is forgotten).
-    fn killable(&self, p: &mut Proc, state: &str, note: &str, ends: &[String], cond: &str) {
-        let Some((wait, first)) = ends.first().and_then(|e| e.split_once("; ")) else {
-            p.from(state, note, ends);
-            return;
-        };
-        let mut outcomes = vec![first.to_owned()];
-        outcomes.extend(ends[1..].iter().cloned());
-        let select = if outcomes.len() == 1 {
-            outcomes.remove(0)
-        } else {
-            format!("select {} end", outcomes.join(" [] "))
-        };
-        let alts = [
-            format!("{wait}; if {cond} then to idle else {select} end"),
-            format!("/* killed by the shutdown: forgotten */ wait [0,0]; on {cond}; to idle"),
-        ];
-        p.from(state, note, &alts);
     }
 
     /// A codel state: the `wait` of its duration, then a `select` of its
@@ -490,8 +476,10 @@ impl Layout<'_> {
     /// The outcomes of a codel (9.1): each yield, the end (`ether`, or an
     /// exception, which ends the instance the same way), and for the
     /// permanent activity an exception at boot, which fails the start
-    /// (9.4).
-    fn outcomes(&self, p: &mut Proc, s: &SlotL, st: &State) -> Vec<String> {
+    /// (9.4); and what follows every one of them (the task runs no codel,
+    /// the steps that follow at once, back to `idle`).
+    fn outcomes(&self, p: &mut Proc, s: &SlotL, st: &State) -> (Vec<String>, String) {
+        use super::stops::block;
         let t = &self.tasks[s.task];
         let (running, cont) = (p.v(self, t.running), p.v(self, t.cont));
         let running = match t.fifo {
@@ -503,6 +491,7 @@ impl Layout<'_> {
             None => running,
         };
         let settle = self.settle(p);
+        let tail = format!("{running} := false; {settle}to idle");
         let (stv, q, pz) = (p.v(self, s.st), p.v(self, s.q), p.v(self, s.pz));
         let perm = self.r.slots[s.read].service.is_none();
         let boot = if perm {
@@ -529,56 +518,50 @@ impl Layout<'_> {
                 format!("{cont} := true; ")
             };
             let mut land = format!("{q} := {n}; {pz} := {pause}; ");
-            let mut then = String::new();
             if let (Some(fl), false) = (s.fl, perm) {
-                then.clone_from(&settle);
                 // Interrupted while it ran: to `stop` (15.6).
                 let fl = p.v(self, fl);
                 land = format!(
                     "if {fl} and {stv} = 3 then {} else {}; {fl} := false end; ",
-                    super::stops::block(&self.to_stop(p, s)),
-                    super::stops::block(&land)
+                    block(&self.to_stop(p, s)),
+                    block(&land)
                 );
             }
             out.push(format!(
-                "/* yield {}{name} */ {land}{unpaused}{boot}{running} := false; {then}to idle",
-                if pause { "pause::" } else { "" }
+                "/* yield {}{name} */ {}",
+                if pause { "pause::" } else { "" },
+                block(&format!("{land}{unpaused}{boot}"))
             ));
         }
         if !perm {
-            if self.done.is_empty() && self.ended.is_none() && self.phase.is_none() {
-                let end =
-                    format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle");
-                out.push(format!(
-                    "/* ether or an exception: the instance ends */ {end}"
-                ));
-                return out;
-            }
             let ok = self.end_slot(p, s, true);
             let ko = self.end_slot(p, s, false);
             if st.yields.iter().any(|y| y.0.is_none()) {
-                out.push(format!(
-                    "/* ether: the instance ends */ {ok}{running} := false; {settle}to idle"
-                ));
+                out.push(format!("/* ether: the instance ends */ {}", block(&ok)));
             }
             out.push(format!(
-                "/* an exception: the instance ends */ {ko}{running} := false; {settle}to idle"
+                "/* an exception: the instance ends */ {}",
+                block(&ko)
             ));
-            return out;
+            return (out, tail);
         }
         let end = if self.phase.is_some() {
-            format!("{}{running} := false; {settle}to idle", self.clear(p, s))
+            self.clear(p, s)
         } else {
-            format!("{stv} := 0; {q} := 0; {pz} := false; {running} := false; to idle")
+            format!("{stv} := 0; {q} := 0; {pz} := false; ")
         };
         let (b, f) = (p.v(self, self.booted), p.v(self, self.failed));
         if st.yields.iter().any(|y| y.0.is_none()) {
-            out.push(format!("/* ether: the activity ends */ {boot}{end}"));
+            out.push(format!(
+                "/* ether: the activity ends */ {}",
+                block(&format!("{boot}{end}"))
+            ));
         }
         out.push(format!(
-            "/* an exception: the activity ends; at boot, the component's start fails (9.4) */ if {b} = {} then {f} := true end; {end}",
-            t.index
+            "/* an exception: the activity ends; at boot, the component's start fails (9.4) */ if {b} = {} then {f} := true end; {}",
+            t.index,
+            block(&end)
         ));
-        out
+        (out, tail)
     }
 }

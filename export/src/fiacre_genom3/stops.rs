@@ -329,6 +329,9 @@ impl Layout<'_> {
     /// The last task before `below` with a permanent stop codel goes on
     /// its stop path, or the component stops.
     fn next_perm_stop(&self, p: &mut Proc, below: usize) -> String {
+        let (Some(ph), Some(ps)) = (self.phase, self.pstop) else {
+            return String::new();
+        };
         for t in (0..below).rev() {
             let Some(s) = self.tasks[t]
                 .slots
@@ -341,9 +344,7 @@ impl Layout<'_> {
             let Some(stop) = self.r.slots[s.read].fsm.stop else {
                 continue;
             };
-            let (Some(ps), mut out) = (self.pstop, self.drop_ticket(p, s)) else {
-                continue;
-            };
+            let mut out = self.drop_ticket(p, s);
             out.push_str(&format!(
                 "{} := 4; {} := {stop}; {} := false; {} := false; {} := {t}; ",
                 p.v(self, s.st),
@@ -354,7 +355,6 @@ impl Layout<'_> {
             ));
             return out;
         }
-        self.phase
-            .map_or_else(String::new, |ph| format!("{} := 4; ", p.v(self, ph)))
+        format!("{} := 4; ", p.v(self, ph))
     }
 }
