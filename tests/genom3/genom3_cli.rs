@@ -220,25 +220,25 @@ fn max_instances_explores_more_instances_with_the_same_verdicts() {
 }
 
 #[test]
-fn behavioural_exports_of_a_genom3_component_are_refused_diagrams_and_promela_are_not() {
-    // The Fiacre model of a GenoM3 component is timed: without a WCET
-    // file it is refused with the remedy, marked unverified or not.
+fn genom3_exports_fiacre_untimed_without_wcet_and_the_timed_networks_with_it() {
+    // Without a WCET file the Fiacre model of a GenoM3 component is its
+    // untimed reading, and stderr says so with the remedy.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo.fcr");
-    for extra in [&[][..], &["--allow-unverified"][..]] {
-        let refused = genom_check()
-            .args(["export", "fiacre"])
-            .args(extra)
-            .arg(DEMO)
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert_eq!(refused.status.code(), Some(1), "{extra:?}");
-        let stderr = String::from_utf8_lossy(&refused.stderr);
-        assert!(stderr.contains("--wcet"), "{stderr}");
-        assert!(!out.exists());
-    }
+    let untimed = genom_check()
+        .args(["export", "fiacre"])
+        .arg(DEMO)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(untimed.status.code(), Some(0));
+    let stderr = String::from_utf8_lossy(&untimed.stderr);
+    assert!(
+        stderr.contains("--wcet") && stderr.contains("untimed reading"),
+        "{stderr}"
+    );
+    assert!(std::fs::read_to_string(&out).unwrap().contains("process"));
     // The timed-automata exports print GenoM3's own timed semantics.
     for (format, file) in [("uppaal", "demo.xml"), ("tchecker", "demo.tck")] {
         let path = dir.path().join(file);
