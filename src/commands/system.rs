@@ -135,6 +135,14 @@ pub fn render_report(result: &SystemResult) -> String {
                 Some(why) => format!("no bound: {why}"),
             };
             let _ = writeln!(out, "  {}.{} ({period}): {verdict}", c.name, t.name);
+            for w in c.windows.iter().filter(|w| w.thread == t.thread) {
+                let _ = writeln!(
+                    out,
+                    "    codel {} ends at most {} after its tick",
+                    w.codel,
+                    format_ns(w.end_ns)
+                );
+            }
         }
     }
     for req in &r.requests {

@@ -22,13 +22,15 @@ const STUBS: &str = "tests/fixtures/genom3/include";
 const WCETS: &str = "tests/fixtures/genom3/wcet";
 
 /// Each WCET file with its component, relative to the corpus.
-const FILES: [(&str, &str); 6] = [
+const FILES: [(&str, &str); 8] = [
     ("nhfc.wcet", "nhfc-genom3/nhfc.gen"),
     ("uavatt.wcet", "uavatt-genom3/uavatt.gen"),
     ("rmp440.wcet", "infuse_rmp440-genom3/rmp440.gen"),
     ("uavpos.wcet", "uavpos-genom3/uavpos.gen"),
     ("uavvs.wcet", "uavvs-genom3/uavvs.gen"),
     ("T265.wcet", "T265-genom3/T265.gen"),
+    ("maneuver.wcet", "maneuver-genom3/maneuver.gen"),
+    ("rotorcraft.wcet", "rotorcraft-genom3/rotorcraft.gen"),
 ];
 
 /// The pairs (WCET file, component) whose component is in the corpus.

@@ -70,3 +70,43 @@ pub fn codel_windows(m: &Machine<'_>, limits: Limits) -> Option<BTreeMap<(Owner,
             .collect(),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::load_genom3_wcet;
+
+    /// One task of period 4 ms running `k0` (1 ms) then `k1` (2 ms) in
+    /// every wake-up: `k0` ends at most 1 ms after the tick, `k1` 3 ms.
+    #[test]
+    fn a_codel_ends_after_those_before_it() {
+        let c = load_genom3_wcet(
+            "component c {\n  task t {\n    period 4 ms;\n    codel<start> s() yield k0;\n    codel<k0> f0() yield k1;\n    codel<k1> f1() yield pause::k0;\n  };\n};\n",
+            "t.start 0ms\nt.k0 1ms\nt.k1 2ms\n",
+        );
+        let m = Machine::new(&c, 1).expect("GenoM3");
+        let w = codel_windows(&m, Limits::default()).expect("explored");
+        let fsm = m.fsm(Owner::Task(0));
+        let at = |name: &str| -> u64 {
+            let s = fsm
+                .states
+                .iter()
+                .position(|s| s.name == name)
+                .expect("state");
+            w[&(Owner::Task(0), u8::try_from(s).expect("small"))]
+        };
+        assert_eq!(at("k0"), 1_000_000);
+        assert_eq!(at("k1"), 3_000_000);
+    }
+
+    /// A task that can overrun gives no windows.
+    #[test]
+    fn an_overrun_gives_none() {
+        let c = load_genom3_wcet(
+            "component c {\n  task t {\n    period 2 ms;\n    codel<start> s() yield k0;\n    codel<k0> f0() yield k1;\n    codel<k1> f1() yield pause::k0;\n  };\n};\n",
+            "t.start 0ms\nt.k0 1ms\nt.k1 2ms\n",
+        );
+        let m = Machine::new(&c, 1).expect("GenoM3");
+        assert!(codel_windows(&m, Limits::default()).is_none());
+    }
+}
