@@ -485,6 +485,26 @@ fn an_overrun_trace_without_a_codel_end_is_refused() {
     assert!(dropped > 20, "{dropped} codel ends dropped");
 }
 
+/// Checks corpus component `file` with its WCET file `wcet`.wcet at
+/// `max_states`; `None` (and a note) when the corpus is absent.
+fn check_corpus(file: &str, wcet: &str, max_states: usize) -> Option<(PathBuf, CheckResult)> {
+    let Some(corpus) = common::genom3_corpus() else {
+        eprintln!("SKIPPED: the GenoM3 corpus is absent");
+        return None;
+    };
+    let path = corpus.join(file);
+    let inputs = Inputs {
+        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
+        wcet_file: Some(PathBuf::from(format!(
+            "tests/fixtures/genom3/wcet/{wcet}.wcet"
+        ))),
+        ..Inputs::default()
+    };
+    let options = CheckOptions::new().max_states(max_states);
+    let r = check_path(&path, &inputs, &options).unwrap();
+    Some((path, r))
+}
+
 /// rmp440 with its WCET file: the whole exploration stops at its limit
 /// before it reaches an overrun of `TrackTask`, and the search with
 /// restricted clients (docs/genom3-semantics.md 15.13) finds one (a
@@ -493,17 +513,9 @@ fn an_overrun_trace_without_a_codel_end_is_refused() {
 /// trace the independent replay accepts, and the run stays `incomplete`.
 #[test]
 fn a_stopped_exploration_still_finds_rmp440s_track_task_overrun() {
-    let Some(corpus) = common::genom3_corpus() else {
-        eprintln!("SKIPPED: the GenoM3 corpus is absent");
+    let Some((_, r)) = check_corpus("infuse_rmp440-genom3/rmp440.gen", "rmp440", 200_000) else {
         return;
     };
-    let path = corpus.join("infuse_rmp440-genom3/rmp440.gen");
-    let inputs = Inputs {
-        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
-        wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/rmp440.wcet")),
-        ..Inputs::default()
-    };
-    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(200_000)).unwrap();
     assert!(
         r.diagnostics.iter().any(|d| d.code == Code::Incomplete),
         "the whole exploration stops"
@@ -532,17 +544,9 @@ fn a_stopped_exploration_still_finds_rmp440s_track_task_overrun() {
 /// overrun: the human report leaves its steps out and says so.
 #[test]
 fn overrun_traces_set_aside_the_tasks_that_play_no_part() {
-    let Some(corpus) = common::genom3_corpus() else {
-        eprintln!("SKIPPED: the GenoM3 corpus is absent");
+    let Some((path, r)) = check_corpus("T265-genom3/T265.gen", "T265", 10_000_000) else {
         return;
     };
-    let path = corpus.join("T265-genom3/T265.gen");
-    let inputs = Inputs {
-        include_dirs: vec![PathBuf::from("tests/fixtures/genom3/include")],
-        wcet_file: Some(PathBuf::from("tests/fixtures/genom3/wcet/T265.wcet")),
-        ..Inputs::default()
-    };
-    let r = check_path(&path, &inputs, &CheckOptions::new()).unwrap();
     let c = r.component.as_ref().expect("a component");
     let (mut set_aside, mut refused) = (0, 0);
     for d in r
