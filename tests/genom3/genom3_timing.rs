@@ -487,6 +487,7 @@ fn an_overrun_trace_without_a_codel_end_is_refused() {
 
 /// Checks corpus component `file` with its WCET file `wcet`.wcet at
 /// `max_states`; `None` (and a note) when the corpus is absent.
+#[allow(clippy::print_stderr)] // a skipped test says why
 fn check_corpus(file: &str, wcet: &str, max_states: usize) -> Option<(PathBuf, CheckResult)> {
     let Some(corpus) = common::genom3_corpus() else {
         eprintln!("SKIPPED: the GenoM3 corpus is absent");
