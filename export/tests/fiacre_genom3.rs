@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use genom_checker::CheckOptions;
 use genom_export::{ExportError, ExportInput, Format, Verification};
 use genom_generate::{Genom3Config, generate_genom3};
-use genom_model::{Code, Severity};
+use genom_model::Code;
 use genom_oracles::fiacre::{Net, Program, parse};
 
 const TIMING: &str = "../tests/fixtures/genom3/timing";
@@ -44,22 +44,7 @@ fn timing_fixtures() -> Vec<PathBuf> {
 
 /// The Fiacre export of a checked component, as the CLI makes it.
 fn fiacre(r: &common::CheckResult) -> Result<String, ExportError> {
-    let verification = Verification {
-        verified: !r.diagnostics.iter().any(|d| d.severity == Severity::Error),
-        tool_version: "0.0.0-test".to_owned(),
-        assumptions: r
-            .statistics
-            .as_ref()
-            .map(|s| s.assumptions.clone())
-            .unwrap_or_default(),
-        ..Verification::default()
-    };
-    let input = ExportInput {
-        component: r.component.as_ref().expect("a component"),
-        sources: &r.sources,
-        verification: &verification,
-    };
-    genom_export::export(Format::Fiacre, &input).map(|e| e.main)
+    common::export_as_cli(r, Format::Fiacre).map(|e| e.main)
 }
 
 /// The tasks the timed engine finds overrunning.

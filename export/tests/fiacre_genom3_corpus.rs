@@ -13,8 +13,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use genom_checker::CheckOptions;
-use genom_export::{ExportInput, Exported, Format, Verification};
-use genom_model::Severity;
+use genom_export::{Exported, Format};
 use genom_oracles::fiacre::parse;
 
 const CORPUS: &str = "../../shared/corpus/genom3";
@@ -71,23 +70,7 @@ fn export(path: &Path) -> (common::CheckResult, Exported) {
     // rmp440's timed explorations (some 90 s each) incomplete.
     let options = CheckOptions::new().max_states(50_000);
     let r = common::check_genom3(path, &include, wcet.as_deref(), &options);
-    let verification = Verification {
-        verified: !r.diagnostics.iter().any(|d| d.severity == Severity::Error),
-        tool_version: "0.0.0-test".to_owned(),
-        assumptions: r
-            .statistics
-            .as_ref()
-            .map(|s| s.assumptions.clone())
-            .unwrap_or_default(),
-        ..Verification::default()
-    };
-    let c = r.component.as_ref().expect("a component");
-    let input = ExportInput {
-        component: c,
-        sources: &r.sources,
-        verification: &verification,
-    };
-    let e = genom_export::export(Format::Fiacre, &input)
+    let e = common::export_as_cli(&r, Format::Fiacre)
         .unwrap_or_else(|e| panic!("{}: refused: {e}", path.display()));
     (r, e)
 }

@@ -100,6 +100,33 @@ pub fn export(result: &CheckResult, format: Format) -> String {
         .main
 }
 
+/// The `format` export of a checked component as the CLI makes it: marked
+/// verified when the check found no error, with the check's assumptions.
+pub fn export_as_cli(
+    result: &CheckResult,
+    format: Format,
+) -> Result<genom_export::Exported, genom_export::ExportError> {
+    let verification = Verification {
+        verified: !result
+            .diagnostics
+            .iter()
+            .any(|d| d.severity == genom_model::Severity::Error),
+        tool_version: "0.0.0-test".to_owned(),
+        assumptions: result
+            .statistics
+            .as_ref()
+            .map(|s| s.assumptions.clone())
+            .unwrap_or_default(),
+        ..Verification::default()
+    };
+    let input = ExportInput {
+        component: result.component.as_ref().expect("a component"),
+        sources: &result.sources,
+        verification: &verification,
+    };
+    genom_export::export(format, &input)
+}
+
 /// The GenoM3 fixtures the diagram tests draw (a permanent task machine,
 /// `pause::` yields, `async`, `validate`, functions, attributes,
 /// exceptions), each with its WCET file when it has one.
