@@ -11,26 +11,45 @@ use std::collections::BTreeSet;
 
 use genom_model::trace::Trace;
 
-use super::trace::walk;
-use super::{CTL, TG3Action, TG3State, TimedEngine};
+use super::{CTL, TG3State, TimedEngine};
 
 /// A thread: a task, or `None` for the control thread.
 type Thread = Option<usize>;
 
-/// Marks the steps of `trace` set aside for the overrun of task `task` that `path` reaches.
-pub fn set_aside(te: &TimedEngine<'_>, path: &[TG3Action], task: usize, trace: &mut Trace) {
-    let mut waits: Vec<(Thread, Vec<Thread>)> = Vec::new();
-    walk(te, path, |_, before, after, _| {
+/// The tickets taken along a path, each with the threads that may delay
+/// it, gathered step by step as the trace is built
+/// ([`super::trace::timed_trace_seeing`]).
+#[derive(Debug, Default)]
+pub struct Waits(Vec<(Thread, Vec<Thread>)>);
+
+impl Waits {
+    /// Reads the tickets the step from `before` to `after` takes.
+    pub fn see(&mut self, te: &TimedEngine<'_>, before: &TG3State, after: &TG3State) {
         for &u in after.queue.iter().filter(|u| !before.queue.contains(u)) {
             let who = thread_of(u);
-            waits.push((who, blockers(te, after, who)));
+            self.0.push((who, blockers(te, after, who)));
         }
-    });
+    }
+
+    /// Marks the steps of `trace` set aside for the overrun of task `task`.
+    pub fn mark(&self, te: &TimedEngine<'_>, task: usize, trace: &mut Trace) {
+        set_aside(te, &self.0, task, trace);
+    }
+}
+
+/// Marks the steps of `trace` set aside for the overrun of task `task`,
+/// given the tickets taken on its way (`waits`).
+fn set_aside(
+    te: &TimedEngine<'_>,
+    waits: &[(Thread, Vec<Thread>)],
+    task: usize,
+    trace: &mut Trace,
+) {
     let mut part: BTreeSet<Thread> = [Some(task), None].into_iter().collect();
     let mut grown = true;
     while grown {
         grown = false;
-        for (who, by) in &waits {
+        for (who, by) in waits {
             if part.contains(who) {
                 for b in by {
                     grown |= part.insert(*b);

@@ -8,7 +8,8 @@
 use genom_model::duration::format_ns;
 use genom_model::trace::{Event, Trace, TraceStep};
 
-use super::trace::timed_trace;
+use super::aside::Waits;
+use super::trace::timed_trace_seeing;
 use super::{TG3Action, TG3State, TimedEngine, Who};
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
@@ -53,8 +54,9 @@ pub(super) fn overrun_trace(
     task: usize,
 ) -> Trace {
     let last = TraceStep::new(Event::Violation, unfinished_text(te, end, task));
-    let mut trace = timed_trace(te, path, last);
-    super::aside::set_aside(te, path, task, &mut trace);
+    let mut waits = Waits::default();
+    let mut trace = timed_trace_seeing(te, path, last, None, |b, a| waits.see(te, b, a));
+    waits.mark(te, task, &mut trace);
     trace
 }
 

@@ -36,6 +36,19 @@ pub fn timed_trace_beyond(
     last: TraceStep,
     beyond: Option<(usize, i64, bool)>,
 ) -> Trace {
+    timed_trace_seeing(te, path, last, beyond, |_, _| {})
+}
+
+/// [`timed_trace_beyond`], calling `see` with the states before and after
+/// each step of the path as it is fired (for what a trace reads off them,
+/// [`super::aside`]).
+pub fn timed_trace_seeing(
+    te: &TimedEngine<'_>,
+    path: &[TG3Action],
+    last: TraceStep,
+    beyond: Option<(usize, i64, bool)>,
+    mut see: impl FnMut(&TG3State, &TG3State),
+) -> Trace {
     let base = te.clock_count();
     let mut steps = vec![TraceStep::new(
         Event::ComponentStart,
@@ -44,6 +57,7 @@ pub fn timed_trace_beyond(
     // Per step, the action it belongs to (its instant); 0: the start.
     let mut marks = vec![0usize];
     let mut st = walk(te, path, |k, before, after, a| {
+        see(before, after);
         for step in render(te, before, after, a) {
             marks.push(k + 1);
             steps.push(step);
@@ -83,7 +97,7 @@ pub fn timed_trace_beyond(
 /// one snapshot clock per step (see the module doc), calling `visit` with
 /// each step's index, the states before and after it, and its action;
 /// returns the last state reached.
-pub(super) fn walk(
+fn walk(
     te: &TimedEngine<'_>,
     path: &[TG3Action],
     mut visit: impl FnMut(usize, &TG3State, &TG3State, TG3Action),
