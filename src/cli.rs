@@ -188,9 +188,9 @@ pub struct CheckArgs {
     /// by one, with the partial-order reduction), `symbolic` (BDDs), or
     /// `auto`: explicit, then symbolic for a cluster the explicit engine
     /// could not finish within the state or memory limit (docs/limits.md).
-    /// The statistics say which decided each cluster. GenoM3 components
-    /// and timed explorations have no symbolic engine: they are explored
-    /// explicitly whatever this says (their statistics say `explicit`).
+    /// GenoM3's untimed parts the same way, the symbolic one there being
+    /// the kernel's BDD sets. The statistics say which decided each
+    /// cluster or part. Timed explorations always use clock zones.
     #[arg(long, value_enum, default_value_t = EngineArg::Auto)]
     pub engine: EngineArg,
 

@@ -13,8 +13,9 @@ use genom_model::stats::{Decision, Method as Decider};
 
 use crate::dialect::{Limits, Method};
 
-/// `--engine`: which engine explores the untimed clusters
-/// (`engine::method`; timed components always use the zone engine).
+/// `--engine`: which engine explores the untimed clusters and GenoM3's
+/// untimed parts (`engine::dialect::method`, `engine::kernel::method`;
+/// timed models always use the zone engine).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum Engine {
     /// The explicit explorer, and the symbolic one for a cluster it could
@@ -123,6 +124,17 @@ impl CheckOptions {
             (_, false) => Method::Exhaustive,
             (Engine::Auto, true) => Method::Auto,
             (Engine::Explicit, true) => Method::Explicit,
+        }
+    }
+
+    /// The method of an engine that has no reduction to turn off (GenoM3's
+    /// untimed parts): `--engine` alone.
+    pub fn kernel_method(&self) -> crate::kernel::method::Method {
+        use crate::kernel::method::Method as M;
+        match self.engine {
+            Engine::Auto => M::Auto,
+            Engine::Explicit => M::Explicit,
+            Engine::Symbolic => M::Symbolic,
         }
     }
 

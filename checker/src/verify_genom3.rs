@@ -22,7 +22,7 @@ use crate::genom3::steps::Engine;
 use crate::genom3::timed::analysis::{TimingAnalysis, analyse_timing};
 use crate::genom3::timed::response::analyse_responses;
 use crate::genom3::trace::refusal;
-use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine, machine::Fsm};
+use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine_by, machine::Fsm};
 use crate::verify::CheckOptions;
 
 /// What the GenoM3 engines found about a component.
@@ -55,7 +55,7 @@ pub fn verify_genom3(
     started: Instant,
 ) -> Option<Genom3Verdicts> {
     let m = Machine::new(c, options.instance_bound())?;
-    let analysis = analyse_machine(&m, options.limits(started));
+    let analysis = analyse_machine_by(&m, options.limits(started), true, options.kernel_method());
     let mut out = Vec::new();
     if analysis.stopped.is_none() {
         out.extend(dead_services(c, &m, &analysis));
@@ -68,7 +68,11 @@ pub fn verify_genom3(
         tasks.chain(services).collect()
     };
     if let Some(stop) = analysis.stopped {
-        let (done, open): (Vec<_>, Vec<_>) = analysis.parts.iter().partition(|p| p.complete);
+        let (done, open): (Vec<_>, Vec<_>) = analysis
+            .parts
+            .iter()
+            .filter(|p| !p.superseded)
+            .partition(|p| p.complete);
         let listed = |parts: &[&crate::genom3::analysis::PartRecord]| -> String {
             let tasks = parts.iter().flat_map(|p| &p.tasks);
             let services = parts.iter().flat_map(|p| &p.services);
@@ -110,7 +114,12 @@ pub fn verify_genom3(
         .iter()
         .map(|p| {
             let who = names(&p.tasks, &p.services);
-            Decision::new(who, Decider::Exhaustive, p.states, p.complete)
+            let how = if p.symbolic {
+                Decider::Symbolic
+            } else {
+                Decider::Exhaustive
+            };
+            Decision::new(who, how, p.states, p.complete)
         })
         .collect();
     let mut long_codels = Vec::new();

@@ -2,7 +2,9 @@
 //! the symbolic engine give the same diagnostics on every behavioural
 //! fixture, the statistics (`decided_by`) name the engine that decided each
 //! part, timed components are decided with zones whatever the option, and
-//! contradictory options are usage errors.
+//! contradictory options are usage errors. GenoM3's untimed parts the same:
+//! the kernel's symbolic sets give the explicit explorer's diagnostics and
+//! traces, and `auto` finishes with them a part past the state limit.
 
 #![allow(clippy::expect_used)] // test support code outside #[test] functions
 
@@ -39,6 +41,44 @@ fn diagnostics(doc: &Value) -> Vec<String> {
                         d["code"], d["line"], d["column"], d["message"]
                     )
                 })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The GenoM3 fixtures of the untimed semantics.
+fn genom3_fixtures() -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir("tests/fixtures/genom3/semantics")
+        .expect("fixtures")
+        .filter_map(|e| Some(e.ok()?.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "gen"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Each diagnostic's code and the number of steps of its trace.
+fn trace_lengths(doc: &Value) -> Vec<(String, usize)> {
+    doc["files"][0]["diagnostics"]
+        .as_array()
+        .map(|ds| {
+            ds.iter()
+                .map(|d| {
+                    let steps = d["trace"].as_array().map_or(0, Vec::len);
+                    (d["code"].to_string(), steps)
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The `(engine, complete)` of each `decided_by` entry.
+fn decisions(doc: &Value) -> Vec<(String, bool)> {
+    doc["files"][0]["statistics"]["decided_by"]
+        .as_array()
+        .map(|ds| {
+            ds.iter()
+                .map(|d| (d["engine"].to_string(), d["complete"] == true))
                 .collect()
         })
         .unwrap_or_default()
@@ -158,4 +198,88 @@ fn contradictory_or_unknown_engines_are_usage_errors() {
         .args(["--engine", "explicit", "--no-reduction", file])
         .assert()
         .code(0);
+}
+
+#[test]
+fn genom3_parts_are_decided_by_the_engine_asked_for_with_the_same_verdicts() {
+    let files = genom3_fixtures();
+    assert!(files.len() >= 10, "only {} fixtures", files.len());
+    let mut traces = 0;
+    for file in &files {
+        let explicit = report("explicit", file);
+        let symbolic = report("symbolic", file);
+        let name = file.display();
+        assert_eq!(diagnostics(&explicit), diagnostics(&symbolic), "{name}");
+        // Both breadth-first: traces as short.
+        assert_eq!(trace_lengths(&explicit), trace_lengths(&symbolic), "{name}");
+        traces += trace_lengths(&symbolic)
+            .iter()
+            .filter(|(_, n)| *n > 0)
+            .count();
+        let engines =
+            |doc: &Value| -> Vec<String> { decisions(doc).into_iter().map(|(e, _)| e).collect() };
+        assert!(
+            engines(&explicit).iter().all(|e| e == "\"explicit\""),
+            "{name}"
+        );
+        assert!(
+            engines(&symbolic).iter().all(|e| e == "\"symbolic\""),
+            "{name}"
+        );
+        let states = |doc: &Value| doc["files"][0]["statistics"]["states"].clone();
+        assert_eq!(states(&explicit), states(&symbolic), "{name}");
+    }
+    assert!(traces >= 5, "{traces} traces compared");
+}
+
+#[test]
+fn auto_finishes_a_genom3_part_past_the_state_limit_with_the_symbolic_sets() {
+    let file = "tests/fixtures/genom3/semantics/f6_interrupt_stop.gen";
+    let run = |engine: &str| {
+        let out = genom_check()
+            .args([
+                "--format",
+                "json",
+                "--max-states",
+                "10",
+                "--engine",
+                engine,
+                file,
+            ])
+            .output()
+            .expect("runs");
+        let doc: Value = serde_json::from_slice(&out.stdout).expect("one JSON document");
+        (out.status.code(), doc)
+    };
+    let whole = report("explicit", Path::new(file));
+    // The explicit explorer alone stops at the limit and says so.
+    let (_, explicit) = run("explicit");
+    let codes = diagnostics(&explicit).join("\n");
+    assert!(codes.contains("\"incomplete\""), "{codes}");
+    assert_eq!(decisions(&explicit), [("\"explicit\"".to_owned(), false)]);
+    // `auto` then explores the part with the sets: complete, the
+    // verdicts of the unlimited exploration, both attempts listed, and
+    // the states of both counted.
+    let (status, auto) = run("auto");
+    assert_eq!(diagnostics(&auto), diagnostics(&whole));
+    assert_eq!(status, Some(0), "{auto:#}");
+    assert_eq!(
+        decisions(&auto),
+        [
+            ("\"explicit\"".to_owned(), false),
+            ("\"symbolic\"".to_owned(), true)
+        ]
+    );
+    let stats = &auto["files"][0]["statistics"];
+    let sum: u64 = stats["decided_by"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["states"].as_u64().unwrap())
+        .sum();
+    assert_eq!(stats["states"].as_u64(), Some(sum));
+    assert_eq!(
+        stats["decided_by"][1]["states"],
+        whole["files"][0]["statistics"]["states"]
+    );
 }

@@ -13,7 +13,7 @@
 //! cluster with BDDs; a cluster the symbolic layout refuses is explored
 //! explicitly, and the record says so.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use genom_model::behaviour::Behaviour;
 use genom_model::component::{Component, ServiceId};
@@ -25,6 +25,7 @@ use super::analysis::{
 };
 use super::clusters::clusters;
 use super::system::System;
+use crate::kernel;
 use crate::kernel::explore::{Limits, Stop};
 use crate::symbolic::{Strategy, SymbolicLimits};
 
@@ -54,26 +55,10 @@ pub enum Method {
     StubbornOnly,
 }
 
-/// The least time a symbolic exploration after an unfinished explicit one
-/// gets when the check has no time limit (`auto`), and the multiple of the
-/// explicit exploration's time it gets when that is longer: without a
-/// `--timeout`, `auto` must still answer in a time of the order of what the
-/// explicit explorer took.
-pub const FALLBACK_MIN: Duration = Duration::from_secs(10);
-const FALLBACK_FACTOR: u32 = 2;
-
 /// Whether `auto` tries the symbolic engine on a cluster whose explicit
-/// exploration stopped for `stop`: the time limit leaves it no time.
+/// exploration stopped for `stop` ([`kernel::method::falls_back`]).
 fn falls_back(method: Method, stop: Option<Stop>) -> bool {
-    method == Method::Auto && matches!(stop, Some(Stop::States | Stop::Memory))
-}
-
-/// The deadline of `auto`'s symbolic exploration of a cluster the explicit
-/// explorer spent `explicit` on: the check's own, or else a bounded time.
-fn fallback_deadline(limits: &Limits, explicit: Duration) -> Instant {
-    limits.deadline.unwrap_or_else(|| {
-        Instant::now() + FALLBACK_MIN.max(explicit.saturating_mul(FALLBACK_FACTOR))
-    })
+    method == Method::Auto && kernel::method::falls_back(stop)
 }
 
 /// The explicit method that decided a cluster explored with `method`:
@@ -155,7 +140,7 @@ fn decide_cluster(
     let parts = explicit_cluster(w, cluster, method, budget, &mut out);
     record(&mut out, cluster, explicit_decider(method, parts));
     if falls_back(method, out.stopped) {
-        let deadline = fallback_deadline(budget, started.elapsed());
+        let deadline = kernel::method::fallback_deadline(budget, started.elapsed());
         if let Some(mut sym) = symbolic_cluster(w, cluster, Some(deadline), budget) {
             if sym.stopped.is_none() {
                 // The explicit exploration's figures count too.

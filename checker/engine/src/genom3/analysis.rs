@@ -15,7 +15,9 @@ use super::parts::parts;
 use super::state::{G3State, Inst, Phase, Status};
 use super::steps::{Engine, G3Action};
 use super::trace::describe;
-use crate::kernel::explore::{Found, Limits, Model, Stop, explore_until};
+use crate::kernel;
+use crate::kernel::explore::{Found, Limits, Model, Stop};
+use crate::kernel::method::{Explored, Method};
 use crate::kernel::store::{Footprint, StateId};
 
 /// A cycle of unpaused transitions of one state machine, through no
@@ -82,6 +84,12 @@ pub struct PartRecord {
     pub states: u64,
     /// Whether it finished.
     pub complete: bool,
+    /// Whether the symbolic sets explored it (`--engine symbolic`, or
+    /// `auto` after an explicit exploration that stopped on a limit).
+    pub symbolic: bool,
+    /// An explicit exploration stopped by a limit, which the symbolic
+    /// sets' record that follows finished (`auto`).
+    pub superseded: bool,
 }
 
 /// Explores `c` (a GenoM3 component; `None` otherwise) with at most
@@ -91,15 +99,28 @@ pub fn analyse_genom3(c: &Component, max_instances: usize, limits: Limits) -> Op
     Some(analyse_machine(&Machine::new(c, max_instances)?, limits))
 }
 
-/// [`analyse_genom3`] of a machine already read.
+/// [`analyse_genom3`] of a machine already read, each part explored
+/// explicitly, or symbolically when the explicit exploration stopped on
+/// its state or memory limit (`--engine auto`).
 pub fn analyse_machine(m: &Machine<'_>, limits: Limits) -> G3Analysis {
-    analyse_machine_with(m, limits, true)
+    analyse_machine_by(m, limits, true, Method::Auto)
 }
 
-/// [`analyse_machine`], with or without the early stop of each part once
-/// every fact it can show is found ([`Targets`]; without, for tests that
-/// compare, and for the bench that measures a whole exploration's store).
+/// [`analyse_machine`], explicitly, with or without the early stop of
+/// each part once every fact it can show is found ([`Targets`]; without,
+/// for tests that compare, and for the bench that measures a whole
+/// exploration's store).
 pub fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3Analysis {
+    analyse_machine_by(m, limits, early, Method::Explicit)
+}
+
+/// [`analyse_machine_with`], each part explored by `method`.
+pub fn analyse_machine_by(
+    m: &Machine<'_>,
+    limits: Limits,
+    early: bool,
+    method: Method,
+) -> G3Analysis {
     let c = m.c;
     let whole = Engine::new(m.clone());
     let cycles = unpaused_cycles(&whole.m);
@@ -115,72 +136,53 @@ pub fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3A
             part.ctls.clone(),
             part.perms,
         );
-        let mut entered: BTreeMap<usize, (StateId, Owner, u8)> = BTreeMap::new();
-        let mut booted: Option<StateId> = None;
-        let mut open = Targets::new(&engine.m, &part, &cycles);
-        let exploration = explore_until(&engine, limits, |id, s: &G3State| {
-            for (w, d) in done.iter_mut().zip(&s.done) {
-                *w |= d;
-            }
-            if perms && booted.is_none() && s.phase == Phase::Run {
-                booted = Some(id);
-                open.boot = false;
-            }
-            for a in ready(s) {
-                let act = &engine.m.activities[a];
-                open.started(&mut out, act.service);
-                if let Some(st) = act.fsm.start {
-                    open.reached(&mut out, (Owner::Activity(a), st));
-                }
-            }
-            for (owner, i) in running(s) {
-                open.reached(&mut out, (owner, i.state));
-                if !may_run(s, owner) {
-                    continue;
-                }
-                if let Owner::Activity(a) = owner {
-                    open.started(&mut out, engine.m.activities[a].service);
-                }
-                for (k, cy) in cycles.iter().enumerate() {
-                    if cy.owner == owner && cy.states.contains(&i.state) {
-                        entered.entry(k).or_insert((id, owner, i.state));
-                        open.cycles.remove(&k);
-                    }
-                }
-            }
-            if early {
-                open.found(&engine)
-            } else {
-                Found::Open
-            }
-        });
+        let look = Look {
+            engine: &engine,
+            part: &part,
+            cycles: &cycles,
+            early,
+        };
+        let run = look.explore(method, limits, &mut out, &mut done);
+        let explored = &run.explored;
         for (w, d) in done.iter_mut().zip(engine.completions_seen()) {
             *w |= d;
         }
-        if let Some(id) = booted {
-            boot = exploration.path(&engine, id);
+        if let Some(id) = run.booted {
+            boot = explored.path(&engine, id);
         }
-        for (k, (id, owner, state)) in entered {
+        for (k, (id, owner, state)) in run.entered {
             let mut path = if perms { Vec::new() } else { boot.clone() };
-            path.extend(exploration.path(&engine, id));
+            path.extend(explored.path(&engine, id));
             let cycle = rotate(&cycles[k], state);
             out.livelocks.push(Livelock {
                 trace: lasso(&whole, &path, owner, &cycle),
                 cycle,
             });
         }
-        out.parts.push(PartRecord {
+        let record = PartRecord {
             services: engine.m.requested(&part.acts, &part.ctls),
             tasks: (0..engine.m.tasks.len())
                 .filter(|&t| perms && engine.m.tasks[t].perm.is_some())
                 .collect(),
-            states: exploration.store.len() as u64,
-            complete: exploration.stopped.is_none(),
-        });
-        out.states += exploration.store.len() as u64;
-        out.transitions += exploration.transitions;
-        footprint.add(&exploration.store);
-        out.stopped = out.stopped.or(exploration.stopped);
+            states: explored.states(),
+            complete: explored.stopped().is_none(),
+            symbolic: explored.is_symbolic(),
+            superseded: false,
+        };
+        if let Some(states) = run.attempt {
+            out.parts.push(PartRecord {
+                states,
+                complete: false,
+                symbolic: false,
+                superseded: true,
+                ..record.clone()
+            });
+        }
+        out.parts.push(record);
+        out.states += run.states;
+        out.transitions += run.transitions;
+        explored.add_footprint(&mut footprint);
+        out.stopped = out.stopped.or(explored.stopped());
         if out.stopped.is_some() {
             break;
         }
@@ -196,6 +198,122 @@ pub fn analyse_machine_with(m: &Machine<'_>, limits: Limits, early: bool) -> G3A
     out.livelocks
         .sort_by(|a, b| (a.cycle.owner, &a.cycle.states).cmp(&(b.cycle.owner, &b.cycle.states)));
     out
+}
+
+/// One part to explore, and what its visits look for.
+struct Look<'l, 'a> {
+    engine: &'l Engine<'a>,
+    part: &'l super::parts::Part,
+    cycles: &'l [Cycle],
+    early: bool,
+}
+
+/// One part's exploration and the states its facts were seen in.
+struct PartRun {
+    explored: Explored<G3Action>,
+    /// The first state where requests are handled (the permanent
+    /// activities' part).
+    booted: Option<StateId>,
+    /// Per unpaused cycle: the first state it is entered in.
+    entered: BTreeMap<usize, (StateId, Owner, u8)>,
+    /// States and transitions of every exploration of the part (an
+    /// unfinished explicit one before the symbolic one too).
+    states: u64,
+    transitions: u64,
+    /// The states of the explicit exploration the symbolic one finished
+    /// after (`auto`).
+    attempt: Option<u64>,
+}
+
+impl Look<'_, '_> {
+    /// Explores the part by `method`: `auto` explores symbolically again
+    /// a part whose explicit exploration stopped on its state or memory
+    /// limit, and keeps that when it finished. Facts seen by an unfinished
+    /// exploration are facts: they stay in `out`.
+    fn explore(
+        &self,
+        method: Method,
+        limits: Limits,
+        out: &mut G3Analysis,
+        done: &mut [u64],
+    ) -> PartRun {
+        let symbolic = method == Method::Symbolic;
+        let run = self.run(symbolic, limits, out, done);
+        if method != Method::Auto || !kernel::method::falls_back(run.explored.stopped()) {
+            return run;
+        }
+        let deadline = kernel::method::fallback_deadline(&limits, run.explored.elapsed());
+        let sets = Limits {
+            deadline: Some(deadline),
+            ..limits
+        };
+        let mut again = self.run(true, sets, out, done);
+        if again.explored.stopped().is_some() {
+            return run;
+        }
+        again.states += run.states;
+        again.transitions += run.transitions;
+        again.attempt = Some(run.states);
+        again
+    }
+
+    /// One exploration of the part, explicit or symbolic.
+    fn run(
+        &self,
+        symbolic: bool,
+        limits: Limits,
+        out: &mut G3Analysis,
+        done: &mut [u64],
+    ) -> PartRun {
+        let engine = self.engine;
+        let mut entered: BTreeMap<usize, (StateId, Owner, u8)> = BTreeMap::new();
+        let mut booted: Option<StateId> = None;
+        let mut open = Targets::new(&engine.m, self.part, self.cycles);
+        let explored = Explored::run(engine, symbolic, limits, |id, s: &G3State| {
+            for (w, d) in done.iter_mut().zip(&s.done) {
+                *w |= d;
+            }
+            if self.part.perms && booted.is_none() && s.phase == Phase::Run {
+                booted = Some(id);
+                open.boot = false;
+            }
+            for a in ready(s) {
+                let act = &engine.m.activities[a];
+                open.started(out, act.service);
+                if let Some(st) = act.fsm.start {
+                    open.reached(out, (Owner::Activity(a), st));
+                }
+            }
+            for (owner, i) in running(s) {
+                open.reached(out, (owner, i.state));
+                if !may_run(s, owner) {
+                    continue;
+                }
+                if let Owner::Activity(a) = owner {
+                    open.started(out, engine.m.activities[a].service);
+                }
+                for (k, cy) in self.cycles.iter().enumerate() {
+                    if cy.owner == owner && cy.states.contains(&i.state) {
+                        entered.entry(k).or_insert((id, owner, i.state));
+                        open.cycles.remove(&k);
+                    }
+                }
+            }
+            if self.early {
+                open.found(engine)
+            } else {
+                Found::Open
+            }
+        });
+        PartRun {
+            states: explored.states(),
+            transitions: explored.transitions(),
+            explored,
+            booted,
+            entered,
+            attempt: None,
+        }
+    }
 }
 
 /// The facts one part can show at most, less those found so far: once none

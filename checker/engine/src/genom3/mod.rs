@@ -22,6 +22,8 @@
 pub mod analysis;
 pub mod machine;
 pub mod parts;
+#[cfg(test)]
+mod sets_tests;
 pub mod state;
 pub mod steps;
 #[cfg(test)]
@@ -30,7 +32,7 @@ pub mod timed;
 pub mod trace;
 
 pub use analysis::{
-    Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, analyse_machine_with,
-    unpaused_cycles,
+    Cycle, G3Analysis, Livelock, analyse_genom3, analyse_machine, analyse_machine_by,
+    analyse_machine_with, unpaused_cycles,
 };
 pub use machine::{Machine, Owner, POOL};

@@ -9,6 +9,7 @@
 //! and its interference links; the kernel knows neither language.
 
 pub mod explore;
+pub mod method;
 pub mod parts;
 pub mod sets;
 pub mod store;
