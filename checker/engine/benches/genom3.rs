@@ -1,5 +1,6 @@
 //! The two GenoM3 engines per state: the untimed analysis and the timed
-//! exploration (schedulability), as states per second and bytes per
+//! exploration (schedulability), and the untimed analysis with the kernel's
+//! symbolic sets (`sets`), as states per second and bytes per
 //! stored state, on generated GenoM3 components (`genom_generate`) and,
 //! when the corpus is next to the repository (`../shared/corpus/genom3`,
 //! or `GENOM3_CORPUS`), on real ones with the WCET files of
@@ -25,8 +26,9 @@ use common::print;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genom_engine::genom3::timed::analysis::analyse_timing;
-use genom_engine::genom3::{Machine, analyse_machine, analyse_machine_with};
+use genom_engine::genom3::{Machine, analyse_machine, analyse_machine_by, analyse_machine_with};
 use genom_engine::kernel::explore::Limits;
+use genom_engine::kernel::method::Method;
 use genom_generate::{Genom3Config, generate_genom3};
 use genom_model::component::Component;
 use genom3_frontend::Genom3Options;
@@ -102,6 +104,13 @@ fn exhaustive(m: &Machine<'_>) -> (u64, u64, f64, bool) {
     )
 }
 
+/// [`exhaustive`] with the kernel's symbolic sets (no state cap: the
+/// BDDs store no state one by one; no store, so no bytes per state).
+fn sets(m: &Machine<'_>) -> (u64, u64, f64, bool) {
+    let a = analyse_machine_by(m, limits(), false, Method::Symbolic);
+    (a.states, a.transitions, 0.0, a.stopped.is_none())
+}
+
 /// The timed exploration: states, transitions, bytes per state, complete.
 fn timed(m: &Machine<'_>) -> (u64, u64, f64, bool) {
     let a = analyse_timing(m, limits()).expect("few tasks");
@@ -122,6 +131,18 @@ fn bench(cr: &mut Criterion) {
             generated(3, 3, 4, 3, false),
             "untimed",
             untimed,
+        ),
+        (
+            "gen-3x4-exhaustive".into(),
+            generated(3, 3, 4, 3, false),
+            "untimed",
+            exhaustive,
+        ),
+        (
+            "gen-3x4-exhaustive".into(),
+            generated(3, 3, 4, 3, false),
+            "sets",
+            sets,
         ),
         (
             "gen-3x4-timed".into(),

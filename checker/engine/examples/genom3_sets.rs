@@ -17,15 +17,19 @@
 use std::time::Instant;
 
 use genom_engine::genom3::{Machine, analyse_machine_by};
+use genom_engine::kernel::explore::Found;
 use genom_engine::kernel::explore::Limits;
 use genom_engine::kernel::method::Method;
 use genom_engine::kernel::sets::{SetLimits, explore_sets_until};
-use genom_engine::kernel::explore::Found;
 use genom_generate::{Genom3Config, generate_genom3};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let num = |k: usize| args.get(k).and_then(|a| a.parse::<usize>().ok()).expect("4 numbers");
+    let num = |k: usize| {
+        args.get(k)
+            .and_then(|a| a.parse::<usize>().ok())
+            .expect("4 numbers")
+    };
     let instances = args
         .iter()
         .position(|a| a == "--max-instances")
