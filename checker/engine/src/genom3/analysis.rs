@@ -143,16 +143,15 @@ pub fn analyse_machine_by(
             early,
         };
         let run = look.explore(method, limits, &mut out, &mut done);
-        let explored = &run.explored;
         for (w, d) in done.iter_mut().zip(engine.completions_seen()) {
             *w |= d;
         }
-        if let Some(id) = run.booted {
-            boot = explored.path(&engine, id);
+        if let Some(path) = run.boot {
+            boot = path;
         }
-        for (k, (id, owner, state)) in run.entered {
+        for (k, (tail, owner, state)) in run.entered {
             let mut path = if perms { Vec::new() } else { boot.clone() };
-            path.extend(explored.path(&engine, id));
+            path.extend(tail);
             let cycle = rotate(&cycles[k], state);
             out.livelocks.push(Livelock {
                 trace: lasso(&whole, &path, owner, &cycle),
@@ -164,9 +163,9 @@ pub fn analyse_machine_by(
             tasks: (0..engine.m.tasks.len())
                 .filter(|&t| perms && engine.m.tasks[t].perm.is_some())
                 .collect(),
-            states: explored.states(),
-            complete: explored.stopped().is_none(),
-            symbolic: explored.is_symbolic(),
+            states: run.own_states,
+            complete: run.stopped.is_none(),
+            symbolic: run.symbolic,
             superseded: false,
         };
         if let Some(states) = run.attempt {
@@ -181,8 +180,8 @@ pub fn analyse_machine_by(
         out.parts.push(record);
         out.states += run.states;
         out.transitions += run.transitions;
-        explored.add_footprint(&mut footprint);
-        out.stopped = out.stopped.or(explored.stopped());
+        footprint.join(run.footprint);
+        out.stopped = out.stopped.or(run.stopped);
         if out.stopped.is_some() {
             break;
         }
@@ -208,14 +207,25 @@ struct Look<'l, 'a> {
     early: bool,
 }
 
-/// One part's exploration and the states its facts were seen in.
+/// One part's exploration and the paths to the states its facts were
+/// seen in (found while the exploration was at hand: its store is freed
+/// before a symbolic one starts).
 struct PartRun {
-    explored: Explored<G3Action>,
-    /// The first state where requests are handled (the permanent
-    /// activities' part).
-    booted: Option<StateId>,
-    /// Per unpaused cycle: the first state it is entered in.
-    entered: BTreeMap<usize, (StateId, Owner, u8)>,
+    /// The path to the first state where requests are handled (the
+    /// permanent activities' part).
+    boot: Option<Vec<G3Action>>,
+    /// Per unpaused cycle: the path to the first state it is entered in.
+    entered: BTreeMap<usize, (Vec<G3Action>, Owner, u8)>,
+    /// States of this exploration.
+    own_states: u64,
+    /// Why it stopped early, if it did.
+    stopped: Option<Stop>,
+    /// Whether the symbolic sets explored it.
+    symbolic: bool,
+    /// Bytes per state of its store (none for the sets).
+    footprint: Footprint,
+    /// Its time.
+    elapsed: std::time::Duration,
     /// States and transitions of every exploration of the part (an
     /// unfinished explicit one before the symbolic one too).
     states: u64,
@@ -239,16 +249,16 @@ impl Look<'_, '_> {
     ) -> PartRun {
         let symbolic = method == Method::Symbolic;
         let run = self.run(symbolic, limits, out, done);
-        if method != Method::Auto || !kernel::method::falls_back(run.explored.stopped()) {
+        if method != Method::Auto || !kernel::method::falls_back(run.stopped) {
             return run;
         }
-        let deadline = kernel::method::fallback_deadline(&limits, run.explored.elapsed());
+        let deadline = kernel::method::fallback_deadline(&limits, run.elapsed);
         let sets = Limits {
             deadline: Some(deadline),
             ..limits
         };
         let mut again = self.run(true, sets, out, done);
-        if again.explored.stopped().is_some() {
+        if again.stopped.is_some() {
             return run;
         }
         again.states += run.states;
@@ -305,12 +315,21 @@ impl Look<'_, '_> {
                 Found::Open
             }
         });
+        let mut footprint = Footprint::default();
+        explored.add_footprint(&mut footprint);
         PartRun {
+            boot: booted.map(|id| explored.path(engine, id)),
+            entered: entered
+                .into_iter()
+                .map(|(k, (id, owner, state))| (k, (explored.path(engine, id), owner, state)))
+                .collect(),
+            own_states: explored.states(),
+            stopped: explored.stopped(),
+            symbolic: explored.is_symbolic(),
+            footprint,
+            elapsed: explored.elapsed(),
             states: explored.states(),
             transitions: explored.transitions(),
-            explored,
-            booted,
-            entered,
             attempt: None,
         }
     }

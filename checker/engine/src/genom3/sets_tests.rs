@@ -143,3 +143,33 @@ fn auto_explores_symbolically_a_part_the_explicit_store_cannot_hold() {
     }
     assert!(fell_back >= 10, "{fell_back} components fell back");
 }
+
+#[test]
+fn auto_explores_symbolically_a_part_past_the_memory_limit() {
+    // The same fallback when the explicit store outgrows `--max-memory`
+    // (here its own bytes: tests have no counting allocator).
+    let mut fell_back = 0;
+    for seed in 0..30 {
+        let c = generated(seed);
+        let m = Machine::new(&c, 1).expect("GenoM3");
+        let whole = analyse_machine_with(&m, limits(200_000), true);
+        if whole.stopped.is_some() || whole.states < 200 {
+            continue;
+        }
+        let cramped = Limits {
+            max_bytes: 1024,
+            ..limits(200_000)
+        };
+        let explicit = analyse_machine_by(&m, cramped, true, Method::Explicit);
+        if explicit.stopped != Some(crate::kernel::Stop::Memory) {
+            continue;
+        }
+        let auto = analyse_machine_by(&m, cramped, true, Method::Auto);
+        assert!(auto.stopped.is_none(), "seed {seed}");
+        assert!(auto.parts.iter().any(|p| p.superseded), "seed {seed}");
+        same_facts(&auto, &whole, seed);
+        replays(&c, &auto, seed);
+        fell_back += 1;
+    }
+    assert!(fell_back >= 5, "{fell_back} components fell back");
+}
