@@ -259,7 +259,11 @@ fn a_stopped_response_exploration_is_incomplete_and_names_what_it_left() {
         "r3_function_lock",
         &CheckOptions::new().response_times(true).max_states(5),
     );
-    assert_eq!(worst(&r, "set"), Bound::Unknown);
+    // The function keeps a static bound (semantics 16.8): its codel's
+    // 1 ms plus one contended codel of task `t` (4 ms), the exact worst
+    // case here; the activity is left unknown.
+    assert_eq!(worst(&r, "set"), Bound::AtMost(5_000_000));
+    assert_eq!(worst(&r, "watch"), Bound::Unknown);
     let found: Vec<_> = r
         .diagnostics
         .iter()
@@ -268,7 +272,11 @@ fn a_stopped_response_exploration_is_incomplete_and_names_what_it_left() {
     assert_eq!(found.len(), 1, "{:#?}", r.diagnostics);
     let help = found[0].help.as_deref().unwrap_or_default();
     assert!(
-        help.contains("the worst-case response times of `set`, `watch`"),
+        help.contains("the worst-case response times of `watch`"),
+        "{help}"
+    );
+    assert!(
+        help.contains("upper bounds on the response times of `set`"),
         "{help}"
     );
     assert!(help.contains("Stopped after"), "{help}");
@@ -276,4 +284,34 @@ fn a_stopped_response_exploration_is_incomplete_and_names_what_it_left() {
     // With room, no `incomplete`.
     let full = times("r3_function_lock");
     assert!(full.diagnostics.iter().all(|d| d.code != Code::Incomplete));
+}
+
+#[test]
+fn a_static_bound_decides_a_deadline_the_stopped_exploration_could_not() {
+    // `set`'s bound, 5 ms, meets a 5 ms deadline: no `incomplete` for it
+    // (only the exploration's own); a 4 ms deadline stays undecided.
+    let stopped = |d: u64| {
+        let options = CheckOptions::new()
+            .response_times(true)
+            .max_states(5)
+            .deadline_for("set", d);
+        check_with("r3_function_lock", &options)
+    };
+    let met = stopped(5_000_000);
+    assert!(misses(&met).is_empty());
+    let undecided = |r: &CheckResult| {
+        r.diagnostics
+            .iter()
+            .filter(|d| d.code == Code::Incomplete && d.message.contains("deadline of `set`"))
+            .count()
+    };
+    assert_eq!(undecided(&met), 0, "{:#?}", met.diagnostics);
+    let tight = stopped(4_000_000);
+    assert!(misses(&tight).is_empty(), "a bound proves no miss");
+    assert_eq!(undecided(&tight), 1, "{:#?}", tight.diagnostics);
+    // With room, the exploration finds the 4 ms deadline missed.
+    let options = CheckOptions::new()
+        .response_times(true)
+        .deadline_for("set", 4_000_000);
+    assert_eq!(misses(&check_with("r3_function_lock", &options)).len(), 1);
 }

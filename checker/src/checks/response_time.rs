@@ -104,6 +104,10 @@ fn bound(c: &Component, b: &Behaviour, r: &ServiceResponse) -> (Bound, Option<St
     let approximate = "a watchdog of its cluster is timed approximately";
     match (&r.worst, r.exact) {
         (Worst::Incomplete, _) => (Bound::Unknown, Some("exploration incomplete".to_owned())),
+        (Worst::AtMost(ns), _) => (
+            Bound::AtMost(*ns),
+            Some("static bound; the exploration stopped on a limit".to_owned()),
+        ),
         (Worst::Never, _) => (Bound::Unknown, Some("never acknowledged".to_owned())),
         (Worst::Undecided(why), _) => (Bound::Unknown, Some((*why).to_owned())),
         (Worst::Exact(ns), true) => (Bound::Exact(*ns), None),
@@ -146,33 +150,39 @@ fn watchdog_bound(c: &Component, b: &Behaviour, s: ServiceId) -> Option<u64> {
 
 /// `incomplete` when a limit stopped the response-time exploration: the
 /// services whose worst case it left unknown, those it decided anyway
-/// (e.g. `unbounded`, from a loop found before the limit), and what it
-/// spent.
+/// (e.g. `unbounded`, from a loop found before the limit), those with an
+/// upper bound only (a static one, GenoM3 16.8), and what it spent.
 pub fn unfinished(
     c: &Component,
     stop: crate::dialect::Stop,
     times: &[ResponseTime],
     started: std::time::Instant,
 ) -> Diagnostic {
-    let names = |unknown: bool| {
+    let names = |keep: fn(&Bound) -> bool| {
         times
             .iter()
-            .filter(|t| matches!(t.worst, Bound::Unknown) == unknown)
+            .filter(|t| keep(&t.worst))
             .map(|t| format!("`{}`", t.service))
             .collect::<Vec<_>>()
     };
-    let left = names(true);
+    let left = names(|b| matches!(b, Bound::Unknown));
     let what = if left.is_empty() {
         "nothing".to_owned()
     } else {
         format!("the worst-case response times of {}", left.join(", "))
     };
-    let decided = names(false);
-    let proven: Vec<String> = if decided.is_empty() {
-        Vec::new()
-    } else {
-        vec![format!("the response times of {}", decided.join(", "))]
-    };
+    let decided = names(|b| !matches!(b, Bound::Unknown | Bound::AtMost(_)));
+    let bounded = names(|b| matches!(b, Bound::AtMost(_)));
+    let mut proven: Vec<String> = Vec::new();
+    if !decided.is_empty() {
+        proven.push(format!("the response times of {}", decided.join(", ")));
+    }
+    if !bounded.is_empty() {
+        proven.push(format!(
+            "upper bounds on the response times of {} (the table's `≤`)",
+            bounded.join(", ")
+        ));
+    }
     let spent = format!("{:.1} s", started.elapsed().as_secs_f64());
     super::incomplete::incomplete_partly(c, stop, &what, &proven, &spent)
 }

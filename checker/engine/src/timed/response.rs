@@ -41,6 +41,10 @@ pub enum Worst {
     Unbounded,
     /// The exploration stopped on a limit.
     Incomplete,
+    /// The exploration stopped on a limit, but a static bound holds: at
+    /// most this many nanoseconds (GenoM3's functions and attributes,
+    /// docs/genom3-semantics.md 16.8).
+    AtMost(u64),
     /// No execution acknowledges the service.
     Never,
     /// The model cannot decide it, for this reason (GenoM3: an aperiodic
@@ -233,7 +237,7 @@ fn explore_cluster(
             let missed = match worst {
                 Worst::Unbounded | Worst::Above(_) => true,
                 Worst::Exact(ns) => deadlines.get(&service).is_some_and(|&dl| ns > dl),
-                Worst::Incomplete | Worst::Never | Worst::Undecided(_) => false,
+                Worst::Incomplete | Worst::AtMost(_) | Worst::Never | Worst::Undecided(_) => false,
             };
             let shown = deadlines.get(&service).copied().unwrap_or(0);
             missed

@@ -138,7 +138,7 @@ fn sum_but(v: &[i64], skip: usize) -> i64 {
 
 /// Per thread (the tasks, then the control thread last): its longest
 /// contended codel, in units (0 without one).
-fn longest_contended(m: &Machine<'_>, locks: &Locks) -> Vec<i64> {
+pub(super) fn longest_contended(m: &Machine<'_>, locks: &Locks) -> Vec<i64> {
     let mut out = vec![0i64; m.tasks.len() + 1];
     for k in (0..locks.len()).filter(|&k| locks.contended(k)) {
         let thread = locks.key_task[k].min(m.tasks.len());

@@ -43,6 +43,7 @@ pub mod locks;
 pub mod overrun;
 mod requests;
 pub mod response;
+pub mod response_bound;
 mod steps;
 pub mod trace;
 pub mod windows;

@@ -137,7 +137,7 @@ pub fn analyse_responses(
         }
     }
     for ctl in m.controls.iter().filter(|c| !c.builtin) {
-        results
+        let r = results
             .entry(ctl.service)
             .or_insert_with(|| ServiceResponse {
                 service: ctl.service,
@@ -145,6 +145,12 @@ pub fn analyse_responses(
                 exact: true,
                 trace: None,
             });
+        // An exploration stopped by a limit: the static bound (16.8).
+        if r.worst == Worst::Incomplete {
+            if let Some(ns) = super::response_bound::control_bound(m, &locks, ctl.service) {
+                r.worst = Worst::AtMost(ns);
+            }
+        }
     }
     for act in &m.activities {
         results
@@ -361,7 +367,8 @@ fn merge(results: &mut BTreeMap<ServiceId, ServiceResponse>, r: ServiceResponse)
         Worst::Above(n) => (2, *n),
         Worst::Unbounded => (3, 0),
         Worst::Undecided(_) => (4, 0),
-        Worst::Incomplete => (5, 0),
+        Worst::AtMost(n) => (5, *n),
+        Worst::Incomplete => (6, 0),
     };
     match results.get(&r.service) {
         Some(old) if rank(&old.worst) >= rank(&r.worst) => {}
