@@ -78,9 +78,8 @@ mod tests {
                     .any(|k| k.service == s.service && !k.builtin)
             })
             .filter_map(|s| {
-                let exact = match s.worst {
-                    Worst::Exact(ns) | Worst::Above(ns) => ns,
-                    _ => return None,
+                let (Worst::Exact(exact) | Worst::Above(exact)) = s.worst else {
+                    return None;
                 };
                 let own = m.control_codels.get(&s.service).into_iter().flatten();
                 let own = own.map(|st| st.wcet_ns.unwrap_or(0)).sum();
