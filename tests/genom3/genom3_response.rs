@@ -315,3 +315,33 @@ fn a_static_bound_decides_a_deadline_the_stopped_exploration_could_not() {
         .deadline_for("set", 4_000_000);
     assert_eq!(misses(&check_with("r3_function_lock", &options)).len(), 1);
 }
+
+#[test]
+fn a_loop_seen_before_the_limit_is_unbounded_with_its_trace() {
+    // The smallest state limit at which the stopped exploration has seen
+    // `watch`'s instance alive in its loop: `unbounded` then (semantics
+    // 16.2, a found fact), still `incomplete`, and a deadline on it is
+    // missed with a trace into the loop that replays.
+    let deadline = 3600 * 1000 * MS;
+    let stopped = |n: usize| {
+        let options = CheckOptions::new()
+            .response_times(true)
+            .max_states(n)
+            .deadline_for("watch", deadline);
+        check_with("r3_function_lock", &options)
+    };
+    let (r, n) = (5..500)
+        .map(|n| (stopped(n), n))
+        .find(|(r, _)| worst(r, "watch") != Bound::Unknown)
+        .expect("the loop is seen before the whole exploration ends");
+    assert_eq!(worst(&r, "watch"), Bound::Unbounded, "at {n} states");
+    assert!(
+        !r.statistics.as_ref().expect("explored").complete,
+        "at {n} states"
+    );
+    let found = misses(&r);
+    assert_eq!(found.len(), 1, "{:#?}", r.diagnostics);
+    let trace = found[0].trace.as_ref().expect("a trace");
+    let c = r.component.as_ref().unwrap();
+    replay_genom3_alive(c, 1, trace, "watch").unwrap_or_else(|e| panic!("replay: {e}"));
+}

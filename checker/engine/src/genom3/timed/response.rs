@@ -245,12 +245,15 @@ fn explore_group(
     out.transitions += e.transitions;
     out.stopped = out.stopped.or(e.stopped);
     let conclude = |s: ServiceId, seen: &Seen, x: usize, extra: i64| {
-        let worst = if e.stopped.is_some() {
-            Worst::Incomplete
-        } else if seen.endless.is_some() {
+        // A state seen where the instance may never reply, or where its
+        // clock is past the horizon, decides the worst case even when the
+        // exploration stopped (16.2): more states cannot undo it.
+        let worst = if seen.endless.is_some() {
             Worst::Unbounded
         } else if seen.above.is_some() {
             Worst::Above(to_ns(te, horizon + extra))
+        } else if e.stopped.is_some() {
+            Worst::Incomplete
         } else if let Some((c, _)) = seen.max {
             Worst::Exact(to_ns(te, c + extra))
         } else {
