@@ -163,12 +163,13 @@ pub fn analyse_machine_by(
             tasks: (0..engine.m.tasks.len())
                 .filter(|&t| perms && engine.m.tasks[t].perm.is_some())
                 .collect(),
-            states: run.own_states,
+            states: run.states,
             complete: run.stopped.is_none(),
             symbolic: run.symbolic,
             superseded: false,
         };
-        if let Some(states) = run.attempt {
+        let (tried, tried_transitions) = run.attempt.unwrap_or_default();
+        if let Some((states, _)) = run.attempt {
             out.parts.push(PartRecord {
                 states,
                 complete: false,
@@ -178,8 +179,8 @@ pub fn analyse_machine_by(
             });
         }
         out.parts.push(record);
-        out.states += run.states;
-        out.transitions += run.transitions;
+        out.states += run.states + tried;
+        out.transitions += run.transitions + tried_transitions;
         footprint.join(run.footprint);
         out.stopped = out.stopped.or(run.stopped);
         if out.stopped.is_some() {
@@ -216,8 +217,6 @@ struct PartRun {
     boot: Option<Vec<G3Action>>,
     /// Per unpaused cycle: the path to the first state it is entered in.
     entered: BTreeMap<usize, (Vec<G3Action>, Owner, u8)>,
-    /// States of this exploration.
-    own_states: u64,
     /// Why it stopped early, if it did.
     stopped: Option<Stop>,
     /// Whether the symbolic sets explored it.
@@ -226,13 +225,12 @@ struct PartRun {
     footprint: Footprint,
     /// Its time.
     elapsed: std::time::Duration,
-    /// States and transitions of every exploration of the part (an
-    /// unfinished explicit one before the symbolic one too).
+    /// States and transitions of this exploration.
     states: u64,
     transitions: u64,
-    /// The states of the explicit exploration the symbolic one finished
-    /// after (`auto`).
-    attempt: Option<u64>,
+    /// The states and transitions of the explicit exploration the
+    /// symbolic one finished after (`auto`): they count too.
+    attempt: Option<(u64, u64)>,
 }
 
 impl Look<'_, '_> {
@@ -261,9 +259,7 @@ impl Look<'_, '_> {
         if again.stopped.is_some() {
             return run;
         }
-        again.states += run.states;
-        again.transitions += run.transitions;
-        again.attempt = Some(run.states);
+        again.attempt = Some((run.states, run.transitions));
         again
     }
 
@@ -323,7 +319,6 @@ impl Look<'_, '_> {
                 .into_iter()
                 .map(|(k, (id, owner, state))| (k, (explored.path(engine, id), owner, state)))
                 .collect(),
-            own_states: explored.states(),
             stopped: explored.stopped(),
             symbolic: explored.is_symbolic(),
             footprint,

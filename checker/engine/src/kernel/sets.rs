@@ -282,6 +282,7 @@ impl SetExploration {
         };
         let mut out = Vec::with_capacity(layer);
         let (mut words, mut actions, mut next) = (Vec::new(), Vec::new(), None);
+        let mut key = Vec::with_capacity(self.width);
         for j in (0..layer).rev() {
             let found = self.layers[j].sat_valuations().find_map(|valuation| {
                 unpack(&valuation, self.width, &mut words);
@@ -293,7 +294,7 @@ impl SetExploration {
                         return false;
                     }
                     next.as_ref().is_some_and(|succ| {
-                        let mut key = Vec::with_capacity(self.width);
+                        key.clear();
                         model.encode(succ, &mut key);
                         key == target
                     })
