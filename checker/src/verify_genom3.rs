@@ -19,7 +19,7 @@ use crate::checks::{
     unreachable_codel,
 };
 use crate::genom3::steps::Engine;
-use crate::genom3::timed::analysis::{TimingAnalysis, analyse_timing};
+use crate::genom3::timed::analysis::{Cause, TimingAnalysis, analyse_timing};
 use crate::genom3::timed::response::analyse_responses;
 use crate::genom3::trace::refusal;
 use crate::genom3::{G3Analysis, Machine, Owner, analyse_machine_by, machine::Fsm};
@@ -131,6 +131,8 @@ pub fn verify_genom3(
                     let who = names(&g.tasks, &g.services);
                     let how = if g.by_bound {
                         Decider::Bound
+                    } else if g.witnessed {
+                        Decider::Witnesses
                     } else {
                         Decider::Zones
                     };
@@ -377,6 +379,19 @@ fn proven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> Vec<String> {
         .collect()
 }
 
+/// A cause of overrun, as a noun phrase.
+fn cause_phrase(m: &Machine<'_>, cause: Cause) -> String {
+    match cause {
+        Cause::LongCodel(owner, state) => {
+            let codel = &m.fsm(owner).states[usize::from(state)];
+            format!("codel `{}` longer than the period", codel.function)
+        }
+        Cause::LockWait => "a lock wait".to_owned(),
+        Cause::Chain => "a chain of codels without `pause::`".to_owned(),
+        Cause::Shared => "its instances' codels together".to_owned(),
+    }
+}
+
 /// What an unfinished timed exploration leaves unproven, task by task: a
 /// decided task ([`decided_tasks`]) is not listed; of the others, one
 /// found overrunning has its traces (other causes may be missing), and one
@@ -395,11 +410,17 @@ fn unproven_timing(m: &Machine<'_>, timing: &TimingAnalysis) -> String {
         let names: Vec<String> = unknown.iter().map(name).collect();
         parts.push(format!("whether task {} can overrun", names.join(", ")));
     }
-    if !overrun.is_empty() {
-        let names: Vec<String> = overrun.iter().map(name).collect();
+    for t in &overrun {
+        let open = timing.open_causes.get(t).into_iter().flatten();
+        let open: Vec<String> = open.map(|&c| cause_phrase(m, c)).collect();
+        let still = if open.is_empty() {
+            String::new()
+        } else {
+            format!("; still possible: {}", open.join(", "))
+        };
         parts.push(format!(
-            "other causes of overrun of task {} (an overrun was found)",
-            names.join(", ")
+            "other causes of overrun of task {} (an overrun was found{still})",
+            name(t)
         ));
     }
     if parts.is_empty() {

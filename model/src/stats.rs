@@ -158,6 +158,10 @@ pub enum Method {
     /// Timed, without exploring: a static bound on each task's wake-up
     /// shorter than its period (GenoM3, docs/genom3-semantics.md 15.12).
     Bound,
+    /// Timed: zones, until every cause of overrun the static bound leaves
+    /// possible was found, each with its trace (GenoM3,
+    /// docs/genom3-semantics.md 15.14).
+    Witnesses,
 }
 
 impl Method {
@@ -166,7 +170,7 @@ impl Method {
         match self {
             Method::Exhaustive | Method::Reduced | Method::Compositional => "explicit",
             Method::Symbolic => "symbolic",
-            Method::Zones => "zones",
+            Method::Zones | Method::Witnesses => "zones",
             Method::Bound => "bound",
         }
     }

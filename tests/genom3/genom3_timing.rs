@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use genom_check::{CheckOptions, CheckResult, Inputs, check_path};
 use genom_checker::dialect::Limits;
 use genom_checker::timed::analyse_timed;
+use genom_model::stats::Method;
 use genom_model::trace::Event;
 use genom_model::{Code, Severity};
 use genom_oracles::replay::genom3_timed::replay_genom3_timed;
@@ -327,29 +328,29 @@ fn uavatt_overruns_behind_the_log_function_and_the_trace_replays() {
 
 #[test]
 fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
-    // Stopped early: task `c`'s overrun is found (with its trace); task `a`
-    // is cleared by the static bound of its wake-up (semantics 15.12), so
-    // it is proven, not left open; the `incomplete` help says so task by
-    // task. (A task neither found nor cleared is listed as open:
-    // `a_stopped_timed_exploration_counts_the_tasks_the_bound_clears_as_proven`.)
-    let path = Path::new(DIR).join("f7_attribute_copy.gen");
-    let inputs = Inputs {
-        wcet_file: Some(PathBuf::from(DIR).join("f7_attribute_copy.wcet")),
-        ..Inputs::default()
+    // Stopped early: task `a` is cleared by the static bound of its
+    // wake-up (semantics 15.12), so it is proven, not left open; task `c`
+    // is left open; the `incomplete` help says so task by task.
+    let help_of = |r: &CheckResult| {
+        r.diagnostics
+            .iter()
+            .find(|d| d.code == Code::Incomplete)
+            .and_then(|d| d.help.clone())
+            .expect("incomplete")
     };
-    let r = check_path(&path, &inputs, &CheckOptions::new().max_states(120)).unwrap();
-    let help = r
-        .diagnostics
-        .iter()
-        .find(|d| d.code == Code::Incomplete)
-        .and_then(|d| d.help.clone())
-        .expect("incomplete");
+    let checked = |name: &str, max_states: usize| {
+        let path = Path::new(DIR).join(format!("{name}.gen"));
+        let inputs = Inputs {
+            wcet_file: Some(PathBuf::from(DIR).join(format!("{name}.wcet"))),
+            ..Inputs::default()
+        };
+        check_path(&path, &inputs, &CheckOptions::new().max_states(max_states)).unwrap()
+    };
+    let r = checked("f7_attribute_copy", 60);
+    let help = help_of(&r);
     assert!(!help.contains("whether task `a` can overrun"), "{help}");
+    assert!(help.contains("whether task `c` can overrun"), "{help}");
     assert!(help.contains("Proven: task `a` never overruns"), "{help}");
-    assert!(
-        help.contains("other causes of overrun of task `c`"),
-        "{help}"
-    );
     // What was proven (the untimed exploration finished) and spent.
     assert!(
         help.contains(
@@ -363,9 +364,18 @@ fn an_unfinished_timed_exploration_names_what_it_left_unproven() {
     );
     assert!(
         !help.contains("task `c` never overruns"),
-        "an overrunning task is not proven: {help}"
+        "an undecided task is not proven: {help}"
     );
-    assert_eq!(overrunning(&r), ["c"]);
+    // Task `t`'s chain overruns; a shared wake-up is still possible (15.14)
+    // and no exploration found one yet: the help names that cause.
+    let r = checked("f1b_chain_overrun", 30);
+    let help = help_of(&r);
+    assert!(
+        help.contains("other causes of overrun of task `t` (an overrun was found; still possible: its instances' codels together)"),
+        "{help}"
+    );
+    assert!(!help.contains("task `t` never overruns"), "{help}");
+    assert_eq!(overrunning(&r), ["t"]);
     let c = r.component.as_ref().expect("a component");
     for d in r
         .diagnostics
@@ -506,31 +516,45 @@ fn check_corpus(file: &str, wcet: &str, max_states: usize) -> Option<(PathBuf, C
     Some((path, r))
 }
 
-/// rmp440 with its WCET file: the whole exploration stops at its limit
-/// before it reaches an overrun of `TrackTask`, and the search with
-/// restricted clients (docs/genom3-semantics.md 15.13) finds one (a
-/// restarting `Track` request's `validate` queued behind `Init`'s codel,
-/// `Track`'s codels behind it): a `thread-overrun` of `TrackTask` whose
-/// trace the independent replay accepts, and the run stays `incomplete`.
+/// rmp440 with its WCET file (docs/genom3-semantics.md 15.13, 15.14): its
+/// whole exploration is far too large, but both of its tasks can overrun,
+/// and the search with restricted clients finds every cause of overrun
+/// the static bound leaves possible: `MotionTask` for a chain, a lock wait
+/// and its instances together, `TrackTask` for a lock wait (a restarting
+/// `Track` request's `validate` queued behind `Init`'s codel, `Track`'s
+/// codels behind it; a chain or a shared wake-up of `TrackTask` cannot
+/// reach its period), and its three codels longer than their period. The
+/// run is complete, its group decided by those witnesses, and every trace
+/// replays in the independent oracle.
 #[test]
-fn a_stopped_exploration_still_finds_rmp440s_track_task_overrun() {
-    let Some((_, r)) = check_corpus("infuse_rmp440-genom3/rmp440.gen", "rmp440", 200_000) else {
+fn rmp440_is_decided_by_a_witness_of_every_possible_cause() {
+    let Some((_, r)) = check_corpus("infuse_rmp440-genom3/rmp440.gen", "rmp440", 10_000_000) else {
         return;
     };
     assert!(
-        r.diagnostics.iter().any(|d| d.code == Code::Incomplete),
-        "the whole exploration stops"
-    );
-    assert!(
-        overrunning(&r).contains(&"TrackTask".to_owned()),
+        r.diagnostics.iter().all(|d| d.code != Code::Incomplete),
         "{:#?}",
         r.diagnostics
     );
+    assert_eq!(
+        overrunning(&r),
+        ["MotionTask", "MotionTask", "MotionTask", "TrackTask"]
+    );
+    let codels = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::CodelOverrun)
+        .count();
+    assert_eq!(codels, 3);
+    let stats = r.statistics.as_ref().expect("figures");
+    let how: Vec<_> = stats.decided_by.iter().map(|d| d.method).collect();
+    assert!(how.contains(&Method::Witnesses), "{how:?}");
+    assert!(stats.states < 2_000_000, "{} states", stats.states);
     let c = r.component.as_ref().expect("a component");
     for d in r
         .diagnostics
         .iter()
-        .filter(|d| d.code == Code::ThreadOverrun)
+        .filter(|d| matches!(d.code, Code::ThreadOverrun | Code::CodelOverrun))
     {
         let t = d.trace.as_ref().expect("a trace");
         replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));

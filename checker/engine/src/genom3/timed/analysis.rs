@@ -5,13 +5,14 @@
 //! concrete timed trace of the first such tick found (breadth-first: a
 //! shortest one).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::groups::groups;
+use super::hunt::{Hunted, Wanted};
 use super::locks::Locks;
 pub use super::overrun::{Cause, TaskOverrun};
-use super::overrun::{cause_on_path, long_codel, longer_than_period, overrun_trace};
-use super::{TG3Action, TG3State, TimedEngine, Who, unit_ns};
+use super::overrun::{cause_on_path, long_codel, overrun_trace};
+use super::{TG3Action, TG3State, TimedEngine, unit_ns};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, Stop, explore_until};
 use crate::kernel::store::{Footprint, StateId};
@@ -43,9 +44,12 @@ pub struct TimingAnalysis {
     pub bounded: Vec<usize>,
     /// What each group's exploration covered, in exploration order.
     pub records: Vec<GroupRecord>,
+    /// Per periodic task of an unfinished group: the causes of overrun the
+    /// static bound leaves possible and that no exploration found
+    /// (docs/genom3-semantics.md 15.14).
+    pub open_causes: BTreeMap<usize, BTreeSet<Cause>>,
     /// Tasks found overrunning only by the search with restricted clients
-    /// after their group's exploration stopped ([`super::hunt`]), in the
-    /// order found.
+    /// ([`super::hunt`]), in task order.
     pub hunted: Vec<usize>,
 }
 
@@ -63,6 +67,10 @@ pub struct GroupRecord {
     /// Decided by the static bound alone (every periodic task of it is in
     /// [`TimingAnalysis::bounded`]): not explored.
     pub by_bound: bool,
+    /// Decided by finding every cause of overrun the static bound leaves
+    /// possible (docs/genom3-semantics.md 15.14), before its whole
+    /// exploration finished.
+    pub witnessed: bool,
 }
 
 /// Explores the timed model of `m`, group by group ([`super::groups`]);
@@ -90,6 +98,34 @@ pub(crate) fn analyse_timing_early(
     reduce: bool,
     early: bool,
 ) -> Option<TimingAnalysis> {
+    analyse_timing_tuned(m, limits, reduce, early, Tuning::DEFAULT)
+}
+
+/// The sizes the analysis works with (tests choose their own).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tuning {
+    /// States of a group's probe ([`decide_group`]).
+    pub probe: usize,
+    /// Violations of a task examined for their cause ([`EXAMINED`]).
+    pub examined: usize,
+}
+
+impl Tuning {
+    /// The analysis's own.
+    pub const DEFAULT: Tuning = Tuning {
+        probe: PROBE,
+        examined: EXAMINED,
+    };
+}
+
+/// [`analyse_timing_early`] with `tuning`.
+pub(crate) fn analyse_timing_tuned(
+    m: &Machine<'_>,
+    limits: Limits,
+    reduce: bool,
+    early: bool,
+    tuning: Tuning,
+) -> Option<TimingAnalysis> {
     if m.tasks.len() > super::MAX_TASKS {
         return None;
     }
@@ -112,20 +148,22 @@ pub(crate) fn analyse_timing_early(
         };
         out.bounded.extend(te.periodic_tasks().filter(|&t| safe[t]));
         let by_bound = te.periodic_tasks().all(|t| safe[t]);
-        let (states, complete) = if by_bound {
-            (0, true)
+        let (states, complete, witnessed) = if by_bound {
+            (0, true, false)
+        } else if early {
+            decide_group(&te, &group, limits, &safe, tuning, &mut out)
         } else {
-            explore_group(&te, reserve(limits, early), early, &safe, &mut out)
+            let run = explore_group(&te, limits, false, &safe, tuning.examined);
+            let complete = run.stopped.is_none();
+            (out.take(run), complete, false)
         };
-        if early && !complete && out.stopped != Some(Stop::Memory) {
-            hunt_unfound(&te, &group, &safe, limits, &mut out);
-        }
         out.records.push(GroupRecord {
             tasks: (0..group.tasks.len()).filter(|&t| group.tasks[t]).collect(),
             services: m.requested(&group.acts, &group.ctls),
             states,
             complete,
             by_bound,
+            witnessed,
         });
         out.groups += 1;
         // A group at the state limit leaves the others worth exploring.
@@ -138,57 +176,144 @@ pub(crate) fn analyse_timing_early(
     Some(out)
 }
 
-/// The limits of a group's whole exploration when the search of
-/// [`super::hunt`] may follow it: a tenth of the time left is kept for
-/// that search (the state limit holds for each exploration alone).
-fn reserve(limits: Limits, early: bool) -> Limits {
-    let now = std::time::Instant::now();
-    let deadline = limits.deadline.filter(|_| early).map(|d| {
-        d.checked_sub(d.saturating_duration_since(now) / 10)
-            .unwrap_or(d)
-    });
-    Limits {
-        deadline: deadline.or(limits.deadline),
-        ..limits
-    }
-}
+/// States of a group's first, capped exploration (the probe of
+/// [`decide_group`]): most groups finish within it.
+const PROBE: usize = 1 << 18;
 
-/// After a group's exploration stopped: looks for an overrun of each of
-/// its periodic tasks that the bound did not clear and the exploration
-/// did not find overrunning, with restricted clients ([`super::hunt`]).
-fn hunt_unfound(
+/// States of each exploration of the search with restricted clients, at
+/// most, and of all of them together ([`super::hunt`]).
+const HUNT_EACH: usize = 1 << 17;
+const HUNT_ALL: usize = 1 << 21;
+
+/// Decides one group with the early stop, and adds its findings (docs/
+/// genom3-semantics.md 15.11-15.14): its exploration capped at [`PROBE`]
+/// states; if that does not finish, the search with restricted clients for
+/// every cause of overrun still possible (the static bound's
+/// [`possible_causes`](super::bound::possible_causes) not yet found): once
+/// each is found, nothing more could be reported and the group is decided.
+/// Otherwise its whole exploration, within `limits`, and what the search
+/// found besides if that too stops. Returns its states, whether it is
+/// decided, and whether by the search.
+fn decide_group(
     te: &TimedEngine<'_>,
     group: &super::groups::Group,
-    safe: &[bool],
     limits: Limits,
+    safe: &[bool],
+    tuning: Tuning,
     out: &mut TimingAnalysis,
-) {
-    let found: std::collections::BTreeSet<usize> = out.overruns.iter().map(|o| o.task).collect();
-    let wanted: Vec<usize> = te
-        .periodic_tasks()
-        .filter(|&t| !safe[t] && !found.contains(&t))
-        .collect();
-    if wanted.is_empty() {
-        return;
+) -> (u64, bool, bool) {
+    let probe_limits = Limits {
+        max_states: limits.max_states.min(tuning.probe),
+        ..limits
+    };
+    let probe = explore_group(te, probe_limits, true, safe, tuning.examined);
+    if probe.stopped.is_none() {
+        return (out.take(probe), true, false);
     }
-    let h = super::hunt::hunt(te.m(), group, &te.locks, &wanted, limits);
-    out.hunted.extend(h.overruns.iter().map(|o| o.task));
-    out.overruns.extend(h.overruns);
-    out.states += h.states;
-    out.transitions += h.transitions;
+    let mut wanted: Wanted = BTreeMap::new();
+    for (t, mut causes) in super::bound::possible_causes(te).into_iter().enumerate() {
+        causes.retain(|&c| !probe.overruns.contains_key(&(t, c)));
+        if !safe[t] && !causes.is_empty() {
+            wanted.insert(t, causes);
+        }
+    }
+    let hunt_limits = Limits {
+        max_states: limits.max_states.min(HUNT_ALL),
+        ..limits
+    };
+    let each = (limits.max_states / 10).min(HUNT_EACH);
+    let h = if probe.stopped == Some(Stop::Memory) {
+        Hunted::default()
+    } else {
+        super::hunt::hunt(te.m(), group, &te.locks, &wanted, hunt_limits, each)
+    };
+    let searched = h.states;
+    let transitions = h.transitions;
+    let found: BTreeMap<(usize, Cause), TaskOverrun> = h
+        .overruns
+        .into_iter()
+        .map(|o| ((o.task, o.cause), o))
+        .collect();
+    let witnessed = wanted
+        .iter()
+        .all(|(&t, causes)| causes.iter().all(|&c| found.contains_key(&(t, c))));
+    let capped = probe.stopped == Some(Stop::States) && limits.max_states > tuning.probe;
+    let late = limits
+        .deadline
+        .is_some_and(|d| std::time::Instant::now() >= d);
+    let (mut run, complete) = if witnessed {
+        let mut run = probe;
+        run.stopped = None;
+        (run, true)
+    } else if capped && !late {
+        out.states += probe.states;
+        out.transitions += probe.transitions;
+        let whole = explore_group(te, limits, true, safe, tuning.examined);
+        let complete = whole.stopped.is_none();
+        (whole, complete)
+    } else {
+        (probe, false)
+    };
+    run.states += searched;
+    run.transitions += transitions;
+    if !complete {
+        for (&t, causes) in &wanted {
+            let open = causes.iter().filter(|&&c| !found.contains_key(&(t, c)));
+            let open: BTreeSet<Cause> = open
+                .filter(|&&c| !run.overruns.contains_key(&(t, c)))
+                .copied()
+                .collect();
+            if !open.is_empty() {
+                out.open_causes.insert(t, open);
+            }
+        }
+    }
+    // A whole exploration that finished reports what it found alone.
+    if witnessed || !complete {
+        let seen: BTreeSet<usize> = run.overruns.keys().map(|&(t, _)| t).collect();
+        out.hunted
+            .extend(found.keys().map(|&(t, _)| t).filter(|t| !seen.contains(t)));
+        out.hunted.dedup();
+        for (key, o) in found {
+            run.overruns.entry(key).or_insert(o);
+        }
+    }
+    (out.take(run), complete, witnessed)
 }
 
-/// Explores one group and adds its findings: per task, the first
-/// violation of each [`Cause`]. Returns its states and whether it
-/// finished. With `early`, the exploration stops (complete) once nothing
-/// it could still find would change them ([`everything_found`]).
+/// One exploration of a group: per task and [`Cause`], its first
+/// violation.
+#[derive(Debug, Default)]
+struct GroupRun {
+    overruns: BTreeMap<(usize, Cause), TaskOverrun>,
+    states: u64,
+    transitions: u64,
+    footprint: Footprint,
+    stopped: Option<Stop>,
+}
+
+impl TimingAnalysis {
+    /// Adds `run`'s findings and figures; returns its states.
+    fn take(&mut self, run: GroupRun) -> u64 {
+        self.overruns.extend(run.overruns.into_values());
+        self.states += run.states;
+        self.transitions += run.transitions;
+        self.footprint.join(run.footprint);
+        self.stopped = self.stopped.or(run.stopped);
+        run.states
+    }
+}
+
+/// Explores one group: per task, the first violation of each [`Cause`].
+/// With `early`, the exploration stops (complete) once nothing it could
+/// still find would change them ([`everything_found`]).
 fn explore_group(
     te: &TimedEngine<'_>,
     limits: Limits,
     early: bool,
     safe: &[bool],
-    out: &mut TimingAnalysis,
-) -> (u64, bool) {
+    examined: usize,
+) -> GroupRun {
     let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
     let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
     let mut findable = findable_long_codels(te);
@@ -203,12 +328,12 @@ fn explore_group(
             }
             None => {
                 let ids = other.entry(t).or_default();
-                if ids.len() < EXAMINED {
+                if ids.len() < examined {
                     ids.push(id);
                 }
             }
         }
-        if early && everything_found(&findable, &long, &other) {
+        if early && everything_found(&findable, &long, &other, examined) {
             Found::All
         } else {
             Found::Open
@@ -229,43 +354,44 @@ fn explore_group(
             }
         }
     }
-    out.overruns
-        .extend(first.iter().map(|(&(task, cause), &id)| {
+    let overruns = first
+        .into_iter()
+        .map(|((task, cause), id)| {
             let path = paths.remove(&id).unwrap_or_else(|| e.path(te, id));
             let end = e.store_config(te, id);
-            TaskOverrun {
+            let o = TaskOverrun {
                 task,
                 cause,
                 trace: overrun_trace(te, &path, &end, task),
-            }
-        }));
-    out.states += e.store.len() as u64;
-    out.transitions += e.transitions;
-    out.footprint.add(&e.store);
-    out.stopped = out.stopped.or(e.stopped);
-    (e.store.len() as u64, e.stopped.is_none())
+            };
+            ((task, cause), o)
+        })
+        .collect();
+    let mut footprint = Footprint::default();
+    footprint.add(&e.store);
+    GroupRun {
+        overruns,
+        states: e.store.len() as u64,
+        transitions: e.transitions,
+        footprint,
+        stopped: e.stopped,
+    }
 }
 
 /// Per periodic task of the group explored, the long-codel causes a
 /// violation could show: its codels whose WCET is longer than its period
 /// (docs/genom3-semantics.md 15.11).
 fn findable_long_codels(te: &TimedEngine<'_>) -> BTreeMap<usize, Vec<Cause>> {
-    let m = te.m();
-    let mut out = BTreeMap::new();
-    for t in te.periodic_tasks() {
-        let perm = m.tasks[t].perm.as_ref().map(|_| Who::Perm(t as u8));
-        let acts = te.acts_of[t].iter().map(|&a| Who::Act(a as u16));
-        let causes = perm
-            .into_iter()
-            .chain(acts)
-            .flat_map(|who| {
-                let states = m.fsm(who.owner()).states.len();
-                (0..states).filter_map(move |k| longer_than_period(m, t, who, k as u8))
-            })
-            .collect();
-        out.insert(t, causes);
-    }
-    out
+    let possible = super::bound::possible_causes(te);
+    te.periodic_tasks()
+        .map(|t| {
+            let long = possible[t].iter().copied();
+            (
+                t,
+                long.filter(|c| matches!(c, Cause::LongCodel(..))).collect(),
+            )
+        })
+        .collect()
 }
 
 /// Whether exploring further can change no finding of the group (the early
@@ -280,10 +406,11 @@ fn everything_found(
     findable: &BTreeMap<usize, Vec<Cause>>,
     long: &BTreeMap<(usize, Cause), StateId>,
     other: &BTreeMap<usize, Vec<StateId>>,
+    examined: usize,
 ) -> bool {
     !findable.is_empty()
         && findable.iter().all(|(&t, causes)| {
-            other.get(&t).is_some_and(|ids| ids.len() >= EXAMINED)
+            other.get(&t).is_some_and(|ids| ids.len() >= examined)
                 && causes.iter().all(|&c| long.contains_key(&(t, c)))
         })
 }

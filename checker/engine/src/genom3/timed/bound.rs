@@ -40,10 +40,13 @@
 //! nothing before its first tick, at `delay`: its wake-ups are the
 //! periods that follow its ticks.)
 
+use std::collections::BTreeSet;
+
 use genom_model::graph::heaviest_path;
 
 use super::TimedEngine;
 use super::locks::Locks;
+use super::overrun::Cause;
 use crate::genom3::machine::{Machine, Owner, Target};
 
 /// Per task: whether the static bound shows that it cannot overrun.
@@ -66,9 +69,76 @@ pub fn wake_up_bounds(te: &TimedEngine<'_>) -> Vec<Option<i64>> {
             if !te.in_group[t] {
                 return None;
             }
-            wake_up_work(te, t, |k| waits.of(t, k))
+            wake_up_work(te, t, |k| waits.of(t, k), &|_, _| false)
         })
         .collect()
+}
+
+/// Per task: the causes an overrun of it can show (empty for a task that
+/// is not a periodic task of the group; docs/genom3-semantics.md 15.14).
+/// A [`Cause::LongCodel`] for each of its codels longer than its period;
+/// the others unless the bound of a wake-up in which none of those begins
+/// rules them out: [`Cause::LockWait`] unless that bound is shorter than
+/// the period or no codel waits for another, [`Cause::Chain`] and [`Cause::Shared`] unless the same
+/// bound without waits is (a codel that waits takes a ticket, which makes
+/// the cause a lock wait), and [`Cause::Chain`] only for a task with a
+/// codel joined to another without `pause::`.
+pub fn possible_causes(te: &TimedEngine<'_>) -> Vec<BTreeSet<Cause>> {
+    let waits = Waits::new(te);
+    let m = te.m();
+    (0..m.tasks.len())
+        .map(|t| {
+            let mut out = BTreeSet::new();
+            let (Some(period), Some(period_ns)) = (te.period[t], m.tasks[t].period_ns) else {
+                return out;
+            };
+            if !te.in_group[t] {
+                return out;
+            }
+            let long =
+                |o: Owner, s: usize| m.fsm(o).states[s].wcet_ns.is_some_and(|w| w > period_ns);
+            let owners = task_owners(te, t);
+            out.extend(owners.iter().flat_map(|&o| {
+                let n = m.fsm(o).states.len();
+                (0..n)
+                    .filter(move |&s| long(o, s))
+                    .filter_map(move |s| Some(Cause::LongCodel(o, u8::try_from(s).ok()?)))
+            }));
+            let fits = |work: Option<i64>| work.is_some_and(|w| w < period);
+            if fits(wake_up_work(te, t, |k| waits.of(t, k), &long)) {
+                return out;
+            }
+            // Without a codel that waits for another, no one takes a ticket.
+            if (0..te.locks.len()).any(|k| !te.locks.waits_for(k).is_empty()) {
+                out.insert(Cause::LockWait);
+            }
+            if fits(wake_up_work(te, t, |_| 0, &long)) {
+                return out;
+            }
+            out.insert(Cause::Shared);
+            let unpaused = |o: Owner| {
+                m.fsm(o).states.iter().enumerate().any(|(s, st)| {
+                    !long(o, s)
+                        && st
+                            .yields
+                            .iter()
+                            .any(|y| matches!(y, Target::State { pause: false, .. }))
+                })
+            };
+            if owners.iter().any(|&o| unpaused(o)) {
+                out.insert(Cause::Chain);
+            }
+            out
+        })
+        .collect()
+}
+
+/// The state machines task `t` runs: its permanent activity's, then its
+/// activities'.
+fn task_owners(te: &TimedEngine<'_>, t: usize) -> Vec<Owner> {
+    let perm = te.m().tasks[t].perm.as_ref().map(|_| Owner::Task(t));
+    let acts = te.acts_of[t].iter().map(|&a| Owner::Activity(a));
+    perm.into_iter().chain(acts).collect()
 }
 
 /// What the other threads can make a codel wait (see the module doc).
@@ -151,22 +221,29 @@ pub(super) fn longest_contended(m: &Machine<'_>, locks: &Locks) -> Vec<i64> {
 }
 
 /// The longest work of one wake-up of task `t`, its codel of key `k`
-/// waiting at most `wait(k)`; `None` when unbounded.
-fn wake_up_work(te: &TimedEngine<'_>, t: usize, wait: impl Fn(usize) -> i64) -> Option<i64> {
+/// waiting at most `wait(k)`, in a wake-up where no codel `skip` names
+/// (owner, state) begins; `None` when unbounded.
+fn wake_up_work(
+    te: &TimedEngine<'_>,
+    t: usize,
+    wait: impl Fn(usize) -> i64,
+    skip: &dyn Fn(Owner, usize) -> bool,
+) -> Option<i64> {
     let m = te.m();
+    let chain = |o: Owner| longest_chain(te, o, &wait, &|s| skip(o, s));
     let mut total = match m.tasks[t].perm {
-        Some(_) => longest_chain(te, Owner::Task(t), &wait)?,
+        Some(_) => chain(Owner::Task(t))?,
         None => 0,
     };
     for class in exclusive_classes(m, &te.acts_of[t]) {
         let work = match class.as_slice() {
             [a] if !m.interrupts_itself(*a) => {
                 let copies = i64::try_from(m.instance_bound(*a)).ok()?;
-                longest_chain(te, Owner::Activity(*a), &wait)?.checked_mul(copies)?
+                chain(Owner::Activity(*a))?.checked_mul(copies)?
             }
             _ => class
                 .iter()
-                .map(|&a| longest_chain(te, Owner::Activity(a), &wait))
+                .map(|&a| chain(Owner::Activity(a)))
                 .try_fold(0i64, |acc, w| Some(acc.max(w?)))?,
         };
         total = total.checked_add(work)?;
@@ -195,29 +272,45 @@ fn exclusive_classes(m: &Machine<'_>, acts: &[usize]) -> Vec<Vec<usize>> {
 }
 
 /// The longest chain of codels of `owner`'s state machine one wake-up can
-/// run, from any state, codel of key `k` waiting `wait(k)`; `None` through
-/// a cycle or an `async` codel.
-fn longest_chain(te: &TimedEngine<'_>, owner: Owner, wait: &impl Fn(usize) -> i64) -> Option<i64> {
+/// run, from any state, codel of key `k` waiting `wait(k)`; a codel of a
+/// state `skip` names does not begin (the chain may end waiting for it);
+/// `None` through a cycle or an `async` codel.
+fn longest_chain(
+    te: &TimedEngine<'_>,
+    owner: Owner,
+    wait: &impl Fn(usize) -> i64,
+    skip: &dyn Fn(usize) -> bool,
+) -> Option<i64> {
     let fsm = te.m().fsm(owner);
     let n = fsm.states.len();
     let normal = before_stop(fsm);
     let next = |s: usize| {
-        let yields = fsm.states[s].yields.iter().filter_map(|y| match *y {
-            Target::State {
-                state,
-                pause: false,
-            } => Some(usize::from(state)),
-            _ => None,
-        });
+        // A skipped codel does not begin: the chain ends waiting for it.
+        let ends = skip(s);
+        let yields = fsm.states[s]
+            .yields
+            .iter()
+            .filter(move |_| !ends)
+            .filter_map(|y| match *y {
+                Target::State {
+                    state,
+                    pause: false,
+                } => Some(usize::from(state)),
+                _ => None,
+            });
         // Interrupted (or, for a permanent activity, shut down), an
         // instance not yet on its stop path goes to `stop` after this codel.
-        let stop = fsm.stop.map(usize::from).filter(|_| normal[s]);
+        let stop = fsm.stop.map(usize::from).filter(|_| normal[s] && !ends);
         yields.chain(stop)
     };
     let cost = |k: usize| {
         let state = u8::try_from(k).ok()?;
-        let w = te.locks.wcet(owner, state)?;
         let delay = wait(te.locks.key(owner, state));
+        let w = if skip(k) {
+            0
+        } else {
+            te.locks.wcet(owner, state)?
+        };
         u64::try_from(w.checked_add(delay)?).ok()
     };
     i64::try_from(heaviest_path(n, 0..n, next, cost)?).ok()

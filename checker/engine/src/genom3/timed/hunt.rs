@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use super::groups::Group;
 use super::locks::Locks;
-use super::overrun::{TaskOverrun, cause_on_path, long_codel, overrun_trace};
+use super::overrun::{Cause, TaskOverrun, cause_on_path, long_codel, overrun_trace};
 use super::{TG3State, TimedEngine};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, explore_until};
@@ -24,13 +24,20 @@ use crate::kernel::store::StateId;
 /// What the search found and spent.
 #[derive(Debug, Default)]
 pub struct Hunted {
-    /// One overrun (its first cause found) per task found.
+    /// The first overrun found for each (task, cause) looked for.
     pub overruns: Vec<TaskOverrun>,
     /// States stored, over all its explorations.
     pub states: u64,
     /// Transitions fired.
     pub transitions: u64,
 }
+
+/// The causes looked for, per periodic task of the group.
+pub type Wanted = BTreeMap<usize, BTreeSet<Cause>>;
+
+/// Violations of a task examined for their cause in one exploration, at
+/// most (the first ones, breadth-first).
+const EXAMINED: usize = 64;
 
 /// A service a restricted client may request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,19 +46,23 @@ enum Service {
     Control(usize),
 }
 
-/// Looks for an overrun of each task of `wanted` (periodic tasks of
-/// `group`) with restricted clients, within `limits`.
+/// Looks for an overrun of each task of `wanted` with each of its causes
+/// (periodic tasks of `group`) with restricted clients, within `limits`:
+/// each exploration within `each` states, all of them within
+/// `limits.max_states`.
 pub fn hunt(
     m: &Machine<'_>,
     group: &Group,
     locks: &Locks,
-    wanted: &[usize],
+    wanted: &Wanted,
     limits: Limits,
+    each: usize,
 ) -> Hunted {
-    let mut left: BTreeSet<usize> = wanted.iter().copied().collect();
+    let mut left = wanted.clone();
+    left.retain(|_, c| !c.is_empty());
     let mut out = Hunted::default();
-    let each = (limits.max_states / 10).max(1);
-    for client in clients(m, group, &left) {
+    let tasks: BTreeSet<usize> = left.keys().copied().collect();
+    for client in clients(m, group, &tasks) {
         let spent = usize::try_from(out.states).unwrap_or(usize::MAX);
         let late = limits.deadline.is_some_and(|d| Instant::now() >= d);
         if left.is_empty() || spent >= limits.max_states || late {
@@ -63,45 +74,79 @@ pub fn hunt(
         };
         te.dominate_calls();
         let budget = Limits {
-            max_states: each.min(limits.max_states - spent),
+            max_states: each.max(1).min(limits.max_states - spent),
             ..limits
         };
         for o in explore_for(&te, budget, &left, &mut out) {
-            left.remove(&o.task);
+            if let Some(c) = left.get_mut(&o.task) {
+                c.remove(&o.cause);
+            }
             out.overruns.push(o);
         }
+        left.retain(|_, c| !c.is_empty());
     }
     out
 }
 
-/// Explores `te` until each task of `left` has overrun (or the limits),
-/// and returns the first overrun of each, breadth-first.
+/// Explores `te` until each (task, cause) of `left` has shown an overrun,
+/// or the limits, or each task with causes other than a long codel left
+/// has shown [`EXAMINED`] violations; returns the first overrun of each
+/// (task, cause) of `left` found, breadth-first.
 fn explore_for(
     te: &TimedEngine<'_>,
     limits: Limits,
-    left: &BTreeSet<usize>,
+    left: &Wanted,
     out: &mut Hunted,
 ) -> Vec<TaskOverrun> {
-    let mut first: BTreeMap<usize, StateId> = BTreeMap::new();
+    let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
+    let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
     let e = explore_until(te, limits, |id, st: &TG3State| {
-        if let Some(t) = st.violation.map(usize::from).filter(|t| left.contains(t)) {
-            first.entry(t).or_insert(id);
+        let Some((t, causes)) = st
+            .violation
+            .map(usize::from)
+            .and_then(|t| Some((t, left.get(&t)?)))
+        else {
+            return Found::Open;
+        };
+        match long_codel(te, st, t) {
+            Some(c) if causes.contains(&c) => {
+                long.entry((t, c)).or_insert(id);
+            }
+            Some(_) => {}
+            None => {
+                let ids = other.entry(t).or_default();
+                if ids.len() < EXAMINED {
+                    ids.push(id);
+                }
+            }
         }
-        if left.iter().all(|t| first.contains_key(t)) {
-            Found::All
-        } else {
-            Found::Open
-        }
+        let done = left.iter().all(|(&t, causes)| {
+            causes.iter().all(|&c| match c {
+                Cause::LongCodel(..) => long.contains_key(&(t, c)),
+                _ => other.get(&t).is_some_and(|ids| ids.len() >= EXAMINED),
+            })
+        });
+        if done { Found::All } else { Found::Open }
     });
     out.states += e.store.len() as u64;
     out.transitions += e.transitions;
+    let mut first: BTreeMap<(usize, Cause), (StateId, Vec<super::TG3Action>)> = BTreeMap::new();
+    for (&(t, c), &id) in &long {
+        first.insert((t, c), (id, e.path(te, id)));
+    }
+    for (&t, ids) in &other {
+        for &id in ids {
+            let path = e.path(te, id);
+            let c = cause_on_path(te, &path, t);
+            if left.get(&t).is_some_and(|w| w.contains(&c)) {
+                first.entry((t, c)).or_insert((id, path));
+            }
+        }
+    }
     first
         .into_iter()
-        .map(|(task, id)| {
+        .map(|((task, cause), (id, path))| {
             let end = e.store_config(te, id);
-            let path = e.path(te, id);
-            let cause =
-                long_codel(te, &end, task).unwrap_or_else(|| cause_on_path(te, &path, task));
             TaskOverrun {
                 task,
                 cause,

@@ -827,4 +827,6 @@ pub(crate) fn idle_running(i: Inst) -> bool {
 #[cfg(test)]
 mod bound_tests;
 #[cfg(test)]
+mod causes_tests;
+#[cfg(test)]
 mod tests;

@@ -236,7 +236,7 @@ fn quiet_requests_left_out_change_no_overrun() {
 }
 
 /// Small generated timed components, shaped by `shape`, named by seed.
-fn generated_timed(
+pub(super) fn generated_timed(
     seeds: std::ops::Range<u64>,
     shape: impl Fn(u64, &mut genom_generate::Genom3Config),
 ) -> Vec<(String, Component)> {
@@ -253,7 +253,7 @@ fn generated_timed(
 }
 
 /// The timing fixtures with a WCET file, by file stem.
-fn timing_fixtures() -> Vec<(String, Component)> {
+pub(super) fn timing_fixtures() -> Vec<(String, Component)> {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../tests/fixtures/genom3/timing"
@@ -276,7 +276,7 @@ fn timing_fixtures() -> Vec<(String, Component)> {
 }
 
 /// Every overrun trace of `a` replays in the independent oracle.
-fn replays(name: &str, c: &Component, instances: usize, a: &TimingAnalysis) {
+pub(super) fn replays(name: &str, c: &Component, instances: usize, a: &TimingAnalysis) {
     for o in &a.overruns {
         genom_oracles::replay::genom3_timed::replay_genom3_timed(c, instances, &o.trace)
             .unwrap_or_else(|e| panic!("{name}: {e}\n{:#?}", o.trace));
@@ -462,7 +462,12 @@ fn an_overrun_found_with_a_restricted_client_is_one_of_the_whole_exploration() {
     let (mut hunted, mut compared) = (0, 0);
     for (name, c) in &cases {
         let m = Machine::new(c, 1).expect("GenoM3");
-        let Some(whole) = super::analysis::analyse_timing_early(&m, budget, true, false) else {
+        let every = super::analysis::Tuning {
+            probe: usize::MAX,
+            examined: usize::MAX,
+        };
+        let Some(whole) = super::analysis::analyse_timing_tuned(&m, budget, true, false, every)
+        else {
             continue;
         };
         if whole.stopped.is_some() {
@@ -472,18 +477,25 @@ fn an_overrun_found_with_a_restricted_client_is_one_of_the_whole_exploration() {
         let locks = super::locks::Locks::new(&m, super::unit_ns(&m));
         let mut found = TimingAnalysis::default();
         for group in super::groups::groups(&m, &locks) {
-            let periodic: Vec<usize> = (0..m.tasks.len())
-                .filter(|&t| group.tasks[t] && m.tasks[t].period_ns.is_some())
+            let te = super::TimedEngine::with_locks(m.clone(), &group, locks.clone()).expect("few");
+            let wanted: super::hunt::Wanted = super::bound::possible_causes(&te)
+                .into_iter()
+                .enumerate()
+                .filter(|&(t, _)| group.tasks[t] && m.tasks[t].period_ns.is_some())
                 .collect();
-            let h = super::hunt::hunt(&m, &group, &locks, &periodic, budget);
+            let h = super::hunt::hunt(&m, &group, &locks, &wanted, budget, budget.max_states / 10);
             found.overruns.extend(h.overruns);
         }
         for o in &found.overruns {
             hunted += 1;
             assert!(
-                whole.overruns.iter().any(|w| w.task == o.task),
-                "{name}: task {} found overrunning by the search only",
-                m.tasks[o.task].name
+                whole
+                    .overruns
+                    .iter()
+                    .any(|w| (w.task, w.cause) == (o.task, o.cause)),
+                "{name}: task {} found overrunning ({:?}) by the search only",
+                m.tasks[o.task].name,
+                o.cause
             );
         }
         replays(name, c, 1, &found);
