@@ -10,7 +10,7 @@ use super::analysis::{Cause, TimingAnalysis, Tuning, analyse_timing_tuned};
 use super::bound::possible_causes;
 use super::groups::groups;
 use super::locks::Locks;
-use super::tests::{generated_timed, replays, timing_fixtures};
+use super::tests::{mixed_cases, replays};
 use super::{TimedEngine, unit_ns};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::Limits;
@@ -47,21 +47,7 @@ fn causes(a: &TimingAnalysis) -> BTreeSet<(usize, Cause)> {
 
 /// Generated components of several shapes and the timing fixtures.
 fn cases() -> Vec<(String, Component)> {
-    let mut cases = generated_timed(0..40, |seed, cfg| {
-        cfg.asyncs = seed % 5 == 0;
-        cfg.tasks = cfg.tasks.clamp(1, 2);
-        cfg.activities = cfg.activities.min(3);
-        cfg.states = cfg.states.min(3);
-        cfg.attributes = cfg.attributes.max(1);
-    });
-    cases.extend(generated_timed(40..60, |_, cfg| {
-        cfg.tasks = cfg.tasks.clamp(1, 2);
-        cfg.activities = cfg.activities.clamp(2, 3);
-        cfg.states = cfg.states.min(3);
-        cfg.density = 3.0;
-    }));
-    cases.extend(timing_fixtures());
-    cases
+    mixed_cases((1, 2), 5)
 }
 
 #[test]

@@ -252,6 +252,30 @@ pub(super) fn generated_timed(
         .collect()
 }
 
+/// 40 generated timed components with locks, attributes and, every
+/// `async_every`-th seed, `async` codels; 20 with many `interrupts`
+/// (activities that restart themselves or one another: one instance among
+/// them per wake-up); each with `tasks` tasks at least and at most; then
+/// the timing fixtures.
+pub(super) fn mixed_cases(tasks: (usize, usize), async_every: u64) -> Vec<(String, Component)> {
+    let (least, most) = tasks;
+    let mut cases = generated_timed(0..40, |seed, cfg| {
+        cfg.asyncs = seed % async_every == 0;
+        cfg.tasks = cfg.tasks.clamp(least, most);
+        cfg.activities = cfg.activities.min(3);
+        cfg.states = cfg.states.min(3);
+        cfg.attributes = cfg.attributes.max(1);
+    });
+    cases.extend(generated_timed(40..60, |_, cfg| {
+        cfg.tasks = cfg.tasks.clamp(least, most);
+        cfg.activities = cfg.activities.clamp(2, 3);
+        cfg.states = cfg.states.min(3);
+        cfg.density = 3.0;
+    }));
+    cases.extend(timing_fixtures());
+    cases
+}
+
 /// The timing fixtures with a WCET file, by file stem.
 pub(super) fn timing_fixtures() -> Vec<(String, Component)> {
     let dir = concat!(
@@ -338,22 +362,7 @@ fn a_task_the_static_bound_clears_never_overruns() {
     // the static bound of 15.12 clears has no overrun in the whole
     // exploration (no early stop, no bound), and the bound clears some
     // tasks, so the comparison is not vacuous.
-    let mut cases = generated_timed(0..40, |seed, cfg| {
-        cfg.asyncs = seed % 3 == 0;
-        cfg.tasks = cfg.tasks.clamp(2, 3);
-        cfg.activities = cfg.activities.min(3);
-        cfg.states = cfg.states.min(3);
-        cfg.attributes = cfg.attributes.max(1);
-    });
-    // Many `interrupts` (activities that restart themselves or one
-    // another: one instance among them per wake-up).
-    cases.extend(generated_timed(40..60, |_, cfg| {
-        cfg.tasks = cfg.tasks.clamp(2, 3);
-        cfg.activities = cfg.activities.clamp(2, 3);
-        cfg.states = cfg.states.min(3);
-        cfg.density = 3.0;
-    }));
-    cases.extend(timing_fixtures());
+    let cases = mixed_cases((2, 3), 3);
     let limits = Limits {
         max_states: 60_000,
         ..Limits::default()
