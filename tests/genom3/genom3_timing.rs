@@ -559,6 +559,29 @@ fn rmp440_is_decided_by_a_witness_of_every_possible_cause() {
         let t = d.trace.as_ref().expect("a trace");
         replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{}: {e}", d.message));
     }
+    // At 50,000 states the search shows every cause of `MotionTask` but
+    // not yet `TrackTask`'s overrun: the help says which is which.
+    let Some((_, r)) = check_corpus("infuse_rmp440-genom3/rmp440.gen", "rmp440", 50_000) else {
+        return;
+    };
+    let help = r
+        .diagnostics
+        .iter()
+        .find(|d| d.code == Code::Incomplete)
+        .and_then(|d| d.help.clone())
+        .expect("incomplete");
+    assert!(
+        help.contains("whether task `TrackTask` can overrun"),
+        "{help}"
+    );
+    assert!(
+        help.contains("Proven: every cause of overrun of task `MotionTask` is shown"),
+        "{help}"
+    );
+    assert!(
+        !help.contains("other causes of overrun of task `MotionTask`"),
+        "{help}"
+    );
 }
 
 /// Issue 32, traces: an overrun trace sets aside the tasks that play no

@@ -44,9 +44,10 @@ pub struct TimingAnalysis {
     pub bounded: Vec<usize>,
     /// What each group's exploration covered, in exploration order.
     pub records: Vec<GroupRecord>,
-    /// Per periodic task of an unfinished group: the causes of overrun the
-    /// static bound leaves possible and that no exploration found
-    /// (docs/genom3-semantics.md 15.14).
+    /// Per periodic task of an unfinished group that the bound does not
+    /// clear: the causes of overrun the static bound leaves possible and
+    /// that no exploration found (docs/genom3-semantics.md 15.14); empty
+    /// once each has shown an overrun.
     pub open_causes: BTreeMap<usize, BTreeSet<Cause>>,
     /// Tasks found overrunning only by the search with restricted clients
     /// ([`super::hunt`]), in task order.
@@ -210,26 +211,19 @@ fn decide_group(
     if probe.stopped.is_none() {
         return (out.take(probe), true, false);
     }
-    let mut wanted: Wanted = BTreeMap::new();
-    for (t, mut causes) in super::bound::possible_causes(te).into_iter().enumerate() {
-        causes.retain(|&c| !probe.overruns.contains_key(&(t, c)));
-        if !safe[t] && !causes.is_empty() {
-            wanted.insert(t, causes);
-        }
-    }
-    let hunt_limits = Limits {
-        max_states: limits.max_states.min(HUNT_ALL),
-        ..limits
-    };
-    let each = (limits.max_states / 10).min(HUNT_EACH);
-    let h = if probe.stopped == Some(Stop::Memory) {
+    let wanted = still_possible(te, safe, &probe);
+    let found = if probe.stopped == Some(Stop::Memory) {
         Hunted::default()
     } else {
-        super::hunt::hunt(te.m(), group, &te.locks, &wanted, hunt_limits, each)
+        let all = Limits {
+            max_states: limits.max_states.min(HUNT_ALL),
+            ..limits
+        };
+        let each = (limits.max_states / 10).min(HUNT_EACH);
+        super::hunt::hunt(te.m(), group, &te.locks, &wanted, all, each)
     };
-    let searched = h.states;
-    let transitions = h.transitions;
-    let found: BTreeMap<(usize, Cause), TaskOverrun> = h
+    let searched = (found.states, found.transitions);
+    let found: BTreeMap<(usize, Cause), TaskOverrun> = found
         .overruns
         .into_iter()
         .map(|o| ((o.task, o.cause), o))
@@ -241,44 +235,76 @@ fn decide_group(
     let late = limits
         .deadline
         .is_some_and(|d| std::time::Instant::now() >= d);
-    let (mut run, complete) = if witnessed {
+    let (mut run, spent) = if witnessed {
         let mut run = probe;
         run.stopped = None;
-        (run, true)
+        (run, searched)
     } else if capped && !late {
-        out.states += probe.states;
-        out.transitions += probe.transitions;
         let whole = explore_group(te, limits, true, safe, tuning.examined);
-        let complete = whole.stopped.is_none();
-        (whole, complete)
+        (
+            whole,
+            (searched.0 + probe.states, searched.1 + probe.transitions),
+        )
     } else {
-        (probe, false)
+        (probe, searched)
     };
-    run.states += searched;
-    run.transitions += transitions;
-    if !complete {
-        for (&t, causes) in &wanted {
-            let open = causes.iter().filter(|&&c| !found.contains_key(&(t, c)));
-            let open: BTreeSet<Cause> = open
-                .filter(|&&c| !run.overruns.contains_key(&(t, c)))
-                .copied()
-                .collect();
-            if !open.is_empty() {
-                out.open_causes.insert(t, open);
-            }
-        }
-    }
+    run.states += spent.0;
+    run.transitions += spent.1;
+    let complete = run.stopped.is_none();
     // A whole exploration that finished reports what it found alone.
     if witnessed || !complete {
-        let seen: BTreeSet<usize> = run.overruns.keys().map(|&(t, _)| t).collect();
-        out.hunted
-            .extend(found.keys().map(|&(t, _)| t).filter(|t| !seen.contains(t)));
-        out.hunted.dedup();
-        for (key, o) in found {
-            run.overruns.entry(key).or_insert(o);
-        }
+        let looked: Vec<usize> = te.periodic_tasks().filter(|&t| !safe[t]).collect();
+        add_found(out, &mut run, found, &wanted, &looked);
     }
     (out.take(run), complete, witnessed)
+}
+
+/// Per periodic task of the group that the bound does not clear: the
+/// causes of overrun the bound leaves possible that `probe` did not show.
+fn still_possible(te: &TimedEngine<'_>, safe: &[bool], probe: &GroupRun) -> Wanted {
+    let mut wanted: Wanted = BTreeMap::new();
+    for (t, mut causes) in super::bound::possible_causes(te).into_iter().enumerate() {
+        causes.retain(|&c| !probe.overruns.contains_key(&(t, c)));
+        if !safe[t] && !causes.is_empty() {
+            wanted.insert(t, causes);
+        }
+    }
+    wanted
+}
+
+/// Adds to `run` what the search `found` besides, keeping the
+/// exploration's own trace of a cause both found (the tasks the search
+/// alone found overrunning go to [`TimingAnalysis::hunted`]); for a run
+/// that did not finish, what is still possible of `wanted` goes to
+/// [`TimingAnalysis::open_causes`], for each of the tasks `looked` for
+/// (nothing, for a task that has shown every cause).
+fn add_found(
+    out: &mut TimingAnalysis,
+    run: &mut GroupRun,
+    found: BTreeMap<(usize, Cause), TaskOverrun>,
+    wanted: &Wanted,
+    looked: &[usize],
+) {
+    let seen: BTreeSet<usize> = run.overruns.keys().map(|&(t, _)| t).collect();
+    out.hunted
+        .extend(found.keys().map(|&(t, _)| t).filter(|t| !seen.contains(t)));
+    out.hunted.dedup();
+    for (key, o) in found {
+        run.overruns.entry(key).or_insert(o);
+    }
+    if run.stopped.is_none() {
+        return;
+    }
+    for &t in looked {
+        let open: BTreeSet<Cause> = wanted
+            .get(&t)
+            .into_iter()
+            .flatten()
+            .filter(|&&c| !run.overruns.contains_key(&(t, c)))
+            .copied()
+            .collect();
+        out.open_causes.insert(t, open);
+    }
 }
 
 /// One exploration of a group: per task and [`Cause`], its first
