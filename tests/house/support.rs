@@ -1,40 +1,19 @@
-//! House rules of the workspace's source (issue 29, docs/architecture.md):
-//! no import cycle between files, and no source file much over 800 lines.
-//!
-//! The cycle check reads every crate's module tree from its roots
-//! (`src/lib.rs`, `src/main.rs`, `src/bin/*`), following `mod x;` and
-//! inline `mod x { … }` (leaving out whatever `#[cfg(test)]` marks). It
-//! resolves the `crate::…`, `super::…`, `self::…` paths of `use` items and
-//! of code (not of comments or string literals) to the file of the longest
-//! module prefix. A name that a module only imports (`pub use
-//! child::Item`) is followed to the file that defines it: a re-export is
-//! no dependency on the file that re-exports. Each resolved path is an
-//! edge between two files; every strongly connected set of files is a
-//! failure. A path from a child module's bare name (`child::f()` in its
-//! parent) is no edge: it serves only to follow re-exports.
-
-#![allow(clippy::expect_used, clippy::unwrap_used)] // test support code
+//! The import-cycle detector of the house rules: the tokens of a Rust file
+//! (comments and literals left out), what one file declares, imports and
+//! names, and the analysis of module trees into a graph of files with its
+//! cycles.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::fmt::Write as _;
-use std::path::Path;
 
 use petgraph::algo::tarjan_scc;
 use petgraph::graphmap::DiGraphMap;
-
-/// A source file may have this many lines.
-const MAX_LINES: usize = 850;
-
-/// Files over [`MAX_LINES`] whose split is out of scope today (path from
-/// the workspace root, with the line count allowed).
-const LONG_FILES: &[(&str, usize)] = &[];
 
 // ---------------------------------------------------------------------
 // Tokens
 // ---------------------------------------------------------------------
 
 #[derive(Debug, Clone, PartialEq, Eq)]
-enum Tok {
+pub(crate) enum Tok {
     Ident(String),
     /// `::`
     PathSep,
@@ -44,14 +23,14 @@ enum Tok {
 }
 
 #[derive(Debug, Clone)]
-struct Token {
-    tok: Tok,
-    line: usize,
+pub(crate) struct Token {
+    pub(crate) tok: Tok,
+    pub(crate) line: usize,
 }
 
 /// The tokens of `src` that paths are made of; comments, string and char
 /// literals, numbers and lifetimes are dropped (literals leave `Other`).
-fn lex(src: &str) -> Vec<Token> {
+pub(crate) fn lex(src: &str) -> Vec<Token> {
     let c: Vec<char> = src.chars().collect();
     let n = c.len();
     let mut out = Vec::new();
@@ -491,17 +470,17 @@ fn scan(src: &str) -> FileScan {
 
 /// What the check found in a set of files.
 #[derive(Debug, Default)]
-struct Analysis {
+pub(crate) struct Analysis {
     /// Files in some crate's module tree.
-    files: BTreeSet<String>,
+    pub(crate) files: BTreeSet<String>,
     /// Files of modules only compiled for tests (not checked).
-    test_only: BTreeSet<String>,
+    pub(crate) test_only: BTreeSet<String>,
     /// (from, to) -> the first path that makes the edge (`line: path`).
-    edges: BTreeMap<(String, String), String>,
+    pub(crate) edges: BTreeMap<(String, String), String>,
     /// Strongly connected sets of more than one file, each sorted.
-    cycles: Vec<Vec<String>>,
+    pub(crate) cycles: Vec<Vec<String>>,
     /// Module declarations whose file is missing.
-    errors: Vec<String>,
+    pub(crate) errors: Vec<String>,
 }
 
 /// One crate's module tree: module path -> file.
@@ -594,7 +573,7 @@ fn child_file<'a>(
 
 /// Checks the crates whose root files are `roots` among `sources` (path
 /// -> text, paths with `/`).
-fn analyse(sources: &BTreeMap<String, String>, roots: &[String]) -> Analysis {
+pub(crate) fn analyse(sources: &BTreeMap<String, String>, roots: &[String]) -> Analysis {
     let mut out = Analysis::default();
     let mut scans: BTreeMap<&str, FileScan> = BTreeMap::new();
     let mut graph: DiGraphMap<&str, (), std::hash::RandomState> = DiGraphMap::new();
@@ -687,267 +666,4 @@ fn analyse(sources: &BTreeMap<String, String>, roots: &[String]) -> Analysis {
     }
     out.cycles.sort();
     out
-}
-
-// ---------------------------------------------------------------------
-// The workspace
-// ---------------------------------------------------------------------
-
-/// The `src/` folders of the workspace's crates, from the workspace root.
-fn crate_sources() -> Vec<String> {
-    let manifest = std::fs::read_to_string("Cargo.toml").unwrap();
-    let manifest: toml::Table = manifest.parse().unwrap();
-    let members = manifest["workspace"]["members"].as_array().unwrap();
-    let mut dirs = vec!["src".to_owned()];
-    for m in members {
-        let m = m.as_str().unwrap();
-        if !m.starts_with("target") && !m.starts_with("fuzz") {
-            dirs.push(format!("{m}/src"));
-        }
-    }
-    dirs
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<String>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    entries.sort();
-    for path in entries {
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path.to_str().unwrap().replace('\\', "/"));
-        }
-    }
-}
-
-/// Every `.rs` file under the crates' `src/` folders, with its text, and
-/// the crate roots among them.
-fn workspace() -> (BTreeMap<String, String>, Vec<String>) {
-    let mut sources = BTreeMap::new();
-    let mut roots = Vec::new();
-    for src in crate_sources() {
-        let mut files = Vec::new();
-        rust_files(Path::new(&src), &mut files);
-        for f in files {
-            let rel = f.strip_prefix(&src).unwrap_or(&f);
-            let bin = rel.strip_prefix("/bin/").is_some_and(|b| {
-                !b.contains('/') || b.ends_with("/main.rs") && b.matches('/').count() == 1
-            });
-            if rel == "/lib.rs" || rel == "/main.rs" || bin {
-                roots.push(f.clone());
-            }
-            let text = std::fs::read_to_string(&f).unwrap();
-            sources.insert(f, text);
-        }
-    }
-    (sources, roots)
-}
-
-#[test]
-fn no_import_cycle_between_files() {
-    let (sources, roots) = workspace();
-    let found = analyse(&sources, &roots);
-    assert!(found.errors.is_empty(), "{:#?}", found.errors);
-    let unread: Vec<&String> = sources
-        .keys()
-        .filter(|f| !found.files.contains(*f) && !found.test_only.contains(*f))
-        .collect();
-    assert!(
-        unread.is_empty(),
-        "files in no module tree and no `#[cfg(test)]` module: {unread:?}"
-    );
-    assert!(
-        found.files.len() > 200,
-        "only {} files found: is the walk right?",
-        found.files.len()
-    );
-    let mut report = String::new();
-    for set in &found.cycles {
-        writeln!(report, "cycle between {} files:", set.len()).unwrap();
-        for ((from, to), why) in &found.edges {
-            if set.contains(from) && set.contains(to) {
-                writeln!(report, "  {from} -> {to}  ({why})").unwrap();
-            }
-        }
-    }
-    assert!(
-        found.cycles.is_empty(),
-        "{} import cycles between files (move the shared item down, or into \
-         a module both import):\n{report}",
-        found.cycles.len()
-    );
-    eprintln!(
-        "house: {} files in module trees ({} more test-only), {} edges between files",
-        found.files.len(),
-        found.test_only.len(),
-        found.edges.len()
-    );
-}
-
-#[test]
-fn no_source_file_over_the_limit() {
-    let (sources, _) = workspace();
-    let mut over = Vec::new();
-    for (file, text) in &sources {
-        let lines = text.lines().count();
-        let allowed = LONG_FILES
-            .iter()
-            .find(|(f, _)| f == file)
-            .map_or(MAX_LINES, |(_, n)| *n);
-        if lines > allowed {
-            over.push(format!("{file}: {lines} lines (at most {allowed})"));
-        }
-    }
-    for (file, allowed) in LONG_FILES {
-        let lines = sources.get(*file).map_or(0, |t| t.lines().count());
-        if lines <= MAX_LINES {
-            over.push(format!(
-                "{file}: {lines} lines, no longer over {MAX_LINES}: take it out of LONG_FILES (allowed {allowed})"
-            ));
-        }
-    }
-    assert!(
-        over.is_empty(),
-        "files too long: split them\n{}",
-        over.join("\n")
-    );
-}
-
-// ---------------------------------------------------------------------
-// The detector itself
-// ---------------------------------------------------------------------
-
-fn files(list: &[(&str, &str)]) -> BTreeMap<String, String> {
-    list.iter()
-        .map(|(p, t)| ((*p).to_owned(), (*t).to_owned()))
-        .collect()
-}
-
-fn edge(a: &Analysis, from: &str, to: &str) -> bool {
-    a.edges.contains_key(&(from.to_owned(), to.to_owned()))
-}
-
-/// A small crate with one cycle (a.rs <-> b.rs, the second edge through a
-/// re-export of lib.rs), paths in comments, strings and test code that
-/// must not count, and an inline module.
-const TINY: &[(&str, &str)] = &[
-    (
-        "c/src/lib.rs",
-        "//! See [`crate::c`] and [`super::c`].\n\
-         mod a;\nmod b;\npub mod c;\npub use a::Thing;\n\
-         #[cfg(test)]\nmod tests;\n",
-    ),
-    ("c/src/a.rs", "use crate::b::helper;\npub struct Thing;\n"),
-    (
-        "c/src/b.rs",
-        "pub fn helper() {\n    let _ = \"crate::c::x\";\n    let _ = r#\"super::c\"#;\n    \
-         /* crate::c /* nested */ */\n}\npub fn take(_: super::Thing) {}\n\
-         pub fn life<'a>(s: &'a str) -> char { let _ = '\"'; 'c' }\n",
-    ),
-    (
-        "c/src/c/mod.rs",
-        "mod inner {\n    use super::super::b;\n}\n\
-         #[cfg(test)]\nmod tests {\n    use crate::a::Thing;\n}\n\
-         pub fn f() -> usize { 1 }\n",
-    ),
-    ("c/src/tests.rs", "use crate::c::f;\n"),
-];
-
-#[test]
-fn the_detector_finds_a_known_cycle_and_nothing_else() {
-    let a = analyse(&files(TINY), &["c/src/lib.rs".to_owned()]);
-    assert!(a.errors.is_empty(), "{:?}", a.errors);
-    assert_eq!(
-        a.files.iter().map(String::as_str).collect::<Vec<_>>(),
-        ["c/src/a.rs", "c/src/b.rs", "c/src/c/mod.rs", "c/src/lib.rs"],
-        "tests.rs is test code"
-    );
-    assert_eq!(
-        a.test_only.iter().map(String::as_str).collect::<Vec<_>>(),
-        ["c/src/tests.rs"]
-    );
-    assert_eq!(
-        a.cycles,
-        vec![vec!["c/src/a.rs".to_owned(), "c/src/b.rs".to_owned()]]
-    );
-    // The re-export is followed to the file that defines `Thing`.
-    assert!(edge(&a, "c/src/b.rs", "c/src/a.rs"));
-    assert!(!edge(&a, "c/src/b.rs", "c/src/lib.rs"));
-    // A child's bare name is no edge.
-    assert!(!edge(&a, "c/src/lib.rs", "c/src/a.rs"));
-    // `super::super` inside the inline module is the crate root.
-    assert!(edge(&a, "c/src/c/mod.rs", "c/src/b.rs"));
-    // Comments, strings and `#[cfg(test)]` code name nothing.
-    assert!(!edge(&a, "c/src/b.rs", "c/src/c/mod.rs"));
-    assert!(!edge(&a, "c/src/lib.rs", "c/src/c/mod.rs"));
-    assert!(!edge(&a, "c/src/c/mod.rs", "c/src/a.rs"));
-    assert_eq!(a.edges.len(), 3, "{:#?}", a.edges);
-}
-
-#[test]
-fn moving_the_shared_item_down_breaks_the_cycle() {
-    let mut tiny = files(TINY);
-    tiny.insert(
-        "c/src/b.rs".to_owned(),
-        "pub fn helper() {}\npub fn take(_: &str) {}\n".to_owned(),
-    );
-    let a = analyse(&tiny, &["c/src/lib.rs".to_owned()]);
-    assert!(a.cycles.is_empty(), "{:?}", a.cycles);
-    assert!(edge(&a, "c/src/a.rs", "c/src/b.rs"));
-}
-
-#[test]
-fn use_trees_resolve_each_leaf() {
-    let a = analyse(
-        &files(&[
-            (
-                "d/src/main.rs",
-                "mod x;\nmod y;\nmod z;\nuse self::{x::{self as ex, *}, y::Y as _};\nfn main() {}\n",
-            ),
-            (
-                "d/src/x.rs",
-                "pub fn f() { ::std::mem::drop(crate::z::Z); }\n",
-            ),
-            ("d/src/y.rs", "pub(in crate::z) struct Y;\n"),
-            ("d/src/z.rs", "pub struct Z;\n"),
-        ]),
-        &["d/src/main.rs".to_owned()],
-    );
-    let edges: Vec<_> = a.edges.keys().cloned().collect();
-    assert_eq!(
-        edges,
-        [
-            ("d/src/main.rs".to_owned(), "d/src/x.rs".to_owned()),
-            ("d/src/main.rs".to_owned(), "d/src/y.rs".to_owned()),
-            ("d/src/x.rs".to_owned(), "d/src/z.rs".to_owned()),
-        ]
-    );
-}
-
-#[test]
-fn literals_and_comments_hide_their_text() {
-    let idents = |src: &str| -> Vec<String> {
-        lex(src)
-            .into_iter()
-            .filter_map(|t| match t.tok {
-                Tok::Ident(s) => Some(s),
-                _ => None,
-            })
-            .collect()
-    };
-    assert_eq!(
-        idents(
-            "a '\\'' b \"\\\" c\" d r##\"e\"#f\"## g b'\\\\' h br#\"i\"# j\n\
-             /* k /* l */ m */ n // o\n/// p\n//! q\np<'r, 's> 't' u '\\u{1F600}' v r#w"
-        ),
-        ["a", "b", "d", "g", "h", "j", "n", "p", "u", "v", "w"]
-    );
-    let lines: Vec<usize> = lex("x\n\"\n\"\ny /*\n*/ z")
-        .iter()
-        .map(|t| t.line)
-        .collect();
-    assert_eq!(lines, [1, 3, 4, 5]);
 }
