@@ -516,6 +516,47 @@ fn check_corpus(file: &str, wcet: &str, max_states: usize) -> Option<(PathBuf, C
     Some((path, r))
 }
 
+/// A limit below what the whole exploration needs (120 states of 135):
+/// the search with restricted clients finds task `c`'s one possible cause,
+/// a lock wait (docs/genom3-semantics.md 15.14), so the run is complete,
+/// decided by `witnesses`, with the unlimited run's findings; the trace
+/// replays.
+#[test]
+fn a_group_is_decided_by_witnesses_below_its_whole_exploration() {
+    let path = Path::new(DIR).join("f7_attribute_copy.gen");
+    let inputs = Inputs {
+        wcet_file: Some(PathBuf::from(DIR).join("f7_attribute_copy.wcet")),
+        ..Inputs::default()
+    };
+    let run = |options: &CheckOptions| check_path(&path, &inputs, options).unwrap();
+    let limited = run(&CheckOptions::new().max_states(120));
+    let whole = run(&CheckOptions::new());
+    let findings = |r: &CheckResult| {
+        r.diagnostics
+            .iter()
+            .map(|d| (d.code, d.message.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(findings(&limited), findings(&whole));
+    assert_eq!(overrunning(&limited), ["c"]);
+    let how = |r: &CheckResult| {
+        let stats = r.statistics.as_ref().expect("figures");
+        stats
+            .decided_by
+            .iter()
+            .filter(|d| d.engine == "zones")
+            .map(|d| (d.method, d.complete))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(how(&limited), [(Method::Witnesses, true)]);
+    assert_eq!(how(&whole), [(Method::Zones, true)]);
+    let c = limited.component.as_ref().expect("a component");
+    for d in &limited.diagnostics {
+        let t = d.trace.as_ref().expect("a trace");
+        replay_genom3_timed(c, 1, t).unwrap_or_else(|e| panic!("{e}\n{t:#?}"));
+    }
+}
+
 /// rmp440 with its WCET file (docs/genom3-semantics.md 15.13, 15.14): its
 /// whole exploration is far too large, but both of its tasks can overrun,
 /// and the search with restricted clients finds every cause of overrun
