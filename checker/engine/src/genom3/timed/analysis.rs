@@ -10,12 +10,12 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::groups::groups;
 use super::hunt::{Hunted, Wanted};
 use super::locks::Locks;
+use super::overrun::Violations;
 pub use super::overrun::{Cause, TaskOverrun};
-use super::overrun::{cause_on_path, long_codel, overrun_trace};
-use super::{TG3Action, TG3State, TimedEngine, unit_ns};
+use super::{TG3State, TimedEngine, unit_ns};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, Stop, explore_until};
-use crate::kernel::store::{Footprint, StateId};
+use crate::kernel::store::Footprint;
 
 /// Violations of one task examined for their cause, at most (breadth
 /// first, so the shortest come first); the long-codel cause is read off
@@ -49,9 +49,6 @@ pub struct TimingAnalysis {
     /// that no exploration found (docs/genom3-semantics.md 15.14); empty
     /// once each has shown an overrun.
     pub open_causes: BTreeMap<usize, BTreeSet<Cause>>,
-    /// Tasks found overrunning only by the search with restricted clients
-    /// ([`super::hunt`]), in task order.
-    pub hunted: Vec<usize>,
 }
 
 /// One group's exploration ([`super::groups`]).
@@ -273,9 +270,8 @@ fn still_possible(te: &TimedEngine<'_>, safe: &[bool], probe: &GroupRun) -> Want
 }
 
 /// Adds to `run` what the search `found` besides, keeping the
-/// exploration's own trace of a cause both found (the tasks the search
-/// alone found overrunning go to [`TimingAnalysis::hunted`]); for a run
-/// that did not finish, what is still possible of `wanted` goes to
+/// exploration's own trace of a cause both found; for a run that did not
+/// finish, what is still possible of `wanted` goes to
 /// [`TimingAnalysis::open_causes`], for each of the tasks `looked` for
 /// (nothing, for a task that has shown every cause).
 fn add_found(
@@ -285,10 +281,6 @@ fn add_found(
     wanted: &Wanted,
     looked: &[usize],
 ) {
-    let seen: BTreeSet<usize> = run.overruns.keys().map(|&(t, _)| t).collect();
-    out.hunted
-        .extend(found.keys().map(|&(t, _)| t).filter(|t| !seen.contains(t)));
-    out.hunted.dedup();
     for (key, o) in found {
         run.overruns.entry(key).or_insert(o);
     }
@@ -340,59 +332,17 @@ fn explore_group(
     safe: &[bool],
     examined: usize,
 ) -> GroupRun {
-    let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
-    let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
+    let mut seen = Violations::new(examined);
     let mut findable = findable_long_codels(te);
     findable.retain(|&t, _| !safe[t]);
     let e = explore_until(te, limits, |id, st: &TG3State| {
-        let Some(t) = st.violation.map(usize::from) else {
-            return Found::Open;
-        };
-        match long_codel(te, st, t) {
-            Some(cause) => {
-                long.entry((t, cause)).or_insert(id);
-            }
-            None => {
-                let ids = other.entry(t).or_default();
-                if ids.len() < examined {
-                    ids.push(id);
-                }
-            }
-        }
-        if early && everything_found(&findable, &long, &other, examined) {
+        if seen.see(te, id, st).is_some() && early && everything_found(&findable, &seen) {
             Found::All
         } else {
             Found::Open
         }
     });
-    let mut first = long;
-    // Paths are found again from the parents (`Exploration::path`): keep
-    // those of the violations kept, not to find them twice.
-    let mut paths: BTreeMap<StateId, Vec<TG3Action>> = BTreeMap::new();
-    for (&t, ids) in &other {
-        for &id in ids {
-            let path = e.path(te, id);
-            if let std::collections::btree_map::Entry::Vacant(v) =
-                first.entry((t, cause_on_path(te, &path, t)))
-            {
-                v.insert(id);
-                paths.insert(id, path);
-            }
-        }
-    }
-    let overruns = first
-        .into_iter()
-        .map(|((task, cause), id)| {
-            let path = paths.remove(&id).unwrap_or_else(|| e.path(te, id));
-            let end = e.store_config(te, id);
-            let o = TaskOverrun {
-                task,
-                cause,
-                trace: overrun_trace(te, &path, &end, task),
-            };
-            ((task, cause), o)
-        })
-        .collect();
+    let overruns = seen.first(te, &e, |_, _| true);
     let mut footprint = Footprint::default();
     footprint.add(&e.store);
     GroupRun {
@@ -428,15 +378,9 @@ fn findable_long_codels(te: &TimedEngine<'_>) -> BTreeMap<usize, Vec<Cause>> {
 /// is what the whole exploration would report; only the state count is
 /// smaller. A group with a task that never overruns is explored to the
 /// end, which is what proves it.
-fn everything_found(
-    findable: &BTreeMap<usize, Vec<Cause>>,
-    long: &BTreeMap<(usize, Cause), StateId>,
-    other: &BTreeMap<usize, Vec<StateId>>,
-    examined: usize,
-) -> bool {
+fn everything_found(findable: &BTreeMap<usize, Vec<Cause>>, seen: &Violations) -> bool {
     !findable.is_empty()
-        && findable.iter().all(|(&t, causes)| {
-            other.get(&t).is_some_and(|ids| ids.len() >= examined)
-                && causes.iter().all(|&c| long.contains_key(&(t, c)))
-        })
+        && findable
+            .iter()
+            .all(|(&t, causes)| seen.examined_all(t) && causes.iter().all(|&c| seen.has_long(t, c)))
 }

@@ -46,7 +46,7 @@ use genom_model::graph::heaviest_path;
 
 use super::TimedEngine;
 use super::locks::Locks;
-use super::overrun::Cause;
+use super::overrun::{Cause, longer_than_period};
 use crate::genom3::machine::{Machine, Owner, Target};
 
 /// Per task: whether the static bound shows that it cannot overrun.
@@ -86,30 +86,28 @@ pub fn wake_up_bounds(te: &TimedEngine<'_>) -> Vec<Option<i64>> {
 pub fn possible_causes(te: &TimedEngine<'_>) -> Vec<BTreeSet<Cause>> {
     let waits = Waits::new(te);
     let m = te.m();
+    // Without a codel that waits for another, no one takes a ticket.
+    let tickets = (0..te.locks.len()).any(|k| !te.locks.waits_for(k).is_empty());
     (0..m.tasks.len())
         .map(|t| {
             let mut out = BTreeSet::new();
-            let (Some(period), Some(period_ns)) = (te.period[t], m.tasks[t].period_ns) else {
+            let Some(period) = te.period[t].filter(|_| te.in_group[t]) else {
                 return out;
             };
-            if !te.in_group[t] {
-                return out;
-            }
-            let long =
-                |o: Owner, s: usize| m.fsm(o).states[s].wcet_ns.is_some_and(|w| w > period_ns);
+            let long_cause =
+                |o: Owner, s: usize| longer_than_period(m, t, o, u8::try_from(s).ok()?);
+            let long = |o: Owner, s: usize| long_cause(o, s).is_some();
             let owners = task_owners(te, t);
-            out.extend(owners.iter().flat_map(|&o| {
-                let n = m.fsm(o).states.len();
-                (0..n)
-                    .filter(move |&s| long(o, s))
-                    .filter_map(move |s| Some(Cause::LongCodel(o, u8::try_from(s).ok()?)))
-            }));
+            out.extend(
+                owners.iter().flat_map(|&o| {
+                    (0..m.fsm(o).states.len()).filter_map(move |s| long_cause(o, s))
+                }),
+            );
             let fits = |work: Option<i64>| work.is_some_and(|w| w < period);
             if fits(wake_up_work(te, t, |k| waits.of(t, k), &long)) {
                 return out;
             }
-            // Without a codel that waits for another, no one takes a ticket.
-            if (0..te.locks.len()).any(|k| !te.locks.waits_for(k).is_empty()) {
+            if tickets {
                 out.insert(Cause::LockWait);
             }
             if fits(wake_up_work(te, t, |_| 0, &long)) {

@@ -15,11 +15,10 @@ use std::time::Instant;
 
 use super::groups::Group;
 use super::locks::Locks;
-use super::overrun::{Cause, TaskOverrun, cause_on_path, long_codel, overrun_trace};
+use super::overrun::{Cause, TaskOverrun, Violations};
 use super::{TG3State, TimedEngine};
 use crate::genom3::machine::Machine;
 use crate::kernel::explore::{Found, Limits, explore_until};
-use crate::kernel::store::StateId;
 
 /// What the search found and spent.
 #[derive(Debug, Default)]
@@ -98,62 +97,32 @@ fn explore_for(
     left: &Wanted,
     out: &mut Hunted,
 ) -> Vec<TaskOverrun> {
-    let mut long: BTreeMap<(usize, Cause), StateId> = BTreeMap::new();
-    let mut other: BTreeMap<usize, Vec<StateId>> = BTreeMap::new();
+    let mut seen = Violations::new(EXAMINED);
     let e = explore_until(te, limits, |id, st: &TG3State| {
-        let Some((t, causes)) = st
+        let wanted = st
             .violation
-            .map(usize::from)
-            .and_then(|t| Some((t, left.get(&t)?)))
-        else {
-            return Found::Open;
-        };
-        match long_codel(te, st, t) {
-            Some(c) if causes.contains(&c) => {
-                long.entry((t, c)).or_insert(id);
-            }
-            Some(_) => {}
-            None => {
-                let ids = other.entry(t).or_default();
-                if ids.len() < EXAMINED {
-                    ids.push(id);
-                }
-            }
+            .is_some_and(|t| left.contains_key(&usize::from(t)));
+        if wanted && seen.see(te, id, st).is_some() && all_seen(left, &seen) {
+            Found::All
+        } else {
+            Found::Open
         }
-        let done = left.iter().all(|(&t, causes)| {
-            causes.iter().all(|&c| match c {
-                Cause::LongCodel(..) => long.contains_key(&(t, c)),
-                _ => other.get(&t).is_some_and(|ids| ids.len() >= EXAMINED),
-            })
-        });
-        if done { Found::All } else { Found::Open }
     });
     out.states += e.store.len() as u64;
     out.transitions += e.transitions;
-    let mut first: BTreeMap<(usize, Cause), (StateId, Vec<super::TG3Action>)> = BTreeMap::new();
-    for (&(t, c), &id) in &long {
-        first.insert((t, c), (id, e.path(te, id)));
-    }
-    for (&t, ids) in &other {
-        for &id in ids {
-            let path = e.path(te, id);
-            let c = cause_on_path(te, &path, t);
-            if left.get(&t).is_some_and(|w| w.contains(&c)) {
-                first.entry((t, c)).or_insert((id, path));
-            }
-        }
-    }
-    first
-        .into_iter()
-        .map(|((task, cause), (id, path))| {
-            let end = e.store_config(te, id);
-            TaskOverrun {
-                task,
-                cause,
-                trace: overrun_trace(te, &path, &end, task),
-            }
+    let keep = |t: usize, c: Cause| left.get(&t).is_some_and(|w| w.contains(&c));
+    seen.first(te, &e, keep).into_values().collect()
+}
+
+/// Whether each (task, cause) of `left` has shown an overrun (a long
+/// codel) or could be among the violations `seen` examines (the others).
+fn all_seen(left: &Wanted, seen: &Violations) -> bool {
+    left.iter().all(|(&t, causes)| {
+        causes.iter().all(|&c| match c {
+            Cause::LongCodel(..) => seen.has_long(t, c),
+            _ => seen.examined_all(t),
         })
-        .collect()
+    })
 }
 
 /// The restricted clients, in the order they are tried: no request, each

@@ -5,6 +5,9 @@
 //! exploration ([`super::analysis`]) and the search with restricted
 //! clients ([`super::hunt`]).
 
+use std::collections::BTreeMap;
+use std::collections::btree_map::Entry;
+
 use genom_model::duration::format_ns;
 use genom_model::trace::{Event, Trace, TraceStep};
 
@@ -14,6 +17,9 @@ use super::{TG3Action, TG3State, TimedEngine, Who};
 use crate::genom3::machine::{Machine, Owner, Target};
 use crate::genom3::state::{Inst, mark};
 use crate::genom3::trace::describe;
+use crate::kernel::explore::Exploration;
+use crate::kernel::store::StateId;
+use crate::zones::dbm::Dbm;
 
 /// A task that can overrun for one cause, with its trace.
 #[derive(Debug, Clone)]
@@ -45,6 +51,102 @@ pub enum Cause {
     Shared,
 }
 
+/// The violations an exploration meets, kept for their cause: per task
+/// and long codel, the first state where that codel still runs at the
+/// tick; per task, the first `examined` others (breadth-first, so the
+/// shortest), whose cause is read off their path once the exploration
+/// ends ([`Violations::first`]).
+#[derive(Debug, Default)]
+pub(super) struct Violations {
+    long: BTreeMap<(usize, Cause), StateId>,
+    other: BTreeMap<usize, Vec<StateId>>,
+    examined: usize,
+}
+
+impl Violations {
+    /// None seen yet; `examined` others kept per task at most.
+    pub(super) fn new(examined: usize) -> Self {
+        Violations {
+            examined,
+            ..Violations::default()
+        }
+    }
+
+    /// Keeps state `id`, `st`, if it is a violation (of the task it
+    /// returns).
+    pub(super) fn see(
+        &mut self,
+        te: &TimedEngine<'_>,
+        id: StateId,
+        st: &TG3State,
+    ) -> Option<usize> {
+        let t = usize::from(st.violation?);
+        match long_codel(te, st, t) {
+            Some(cause) => {
+                self.long.entry((t, cause)).or_insert(id);
+            }
+            None => {
+                let ids = self.other.entry(t).or_default();
+                if ids.len() < self.examined {
+                    ids.push(id);
+                }
+            }
+        }
+        Some(t)
+    }
+
+    /// Whether task `t` has shown long codel `cause` still running at a
+    /// tick.
+    pub(super) fn has_long(&self, t: usize, cause: Cause) -> bool {
+        self.long.contains_key(&(t, cause))
+    }
+
+    /// Whether task `t` has shown as many other violations as are
+    /// examined.
+    pub(super) fn examined_all(&self, t: usize) -> bool {
+        self.other
+            .get(&t)
+            .is_some_and(|ids| ids.len() >= self.examined)
+    }
+
+    /// The first violation kept of each (task, cause) that `keep` accepts,
+    /// with its trace: a long codel still running first, then the others
+    /// in order, their cause read off their path.
+    pub(super) fn first(
+        self,
+        te: &TimedEngine<'_>,
+        e: &Exploration<TG3Action, Dbm>,
+        keep: impl Fn(usize, Cause) -> bool,
+    ) -> BTreeMap<(usize, Cause), TaskOverrun> {
+        // The violation kept per (task, cause), with its path once read.
+        type Kept = (StateId, Option<Vec<TG3Action>>);
+        let mut first: BTreeMap<(usize, Cause), Kept> = self
+            .long
+            .into_iter()
+            .filter(|&((t, c), _)| keep(t, c))
+            .map(|(key, id)| (key, (id, None)))
+            .collect();
+        for (t, ids) in self.other {
+            for id in ids {
+                let path = e.path(te, id);
+                let c = cause_on_path(te, &path, t);
+                if let (true, Entry::Vacant(v)) = (keep(t, c), first.entry((t, c))) {
+                    v.insert((id, Some(path)));
+                }
+            }
+        }
+        first
+            .into_iter()
+            .map(|((task, cause), (id, path))| {
+                let path = path.unwrap_or_else(|| e.path(te, id));
+                let end = e.store_config(te, id);
+                let trace = overrun_trace(te, &path, &end, task);
+                ((task, cause), TaskOverrun { task, cause, trace })
+            })
+            .collect()
+    }
+}
+
 /// The trace of `path`, which ends in `end` with task `task`'s overrun;
 /// the threads that play no part in it set aside ([`super::aside`]).
 pub(super) fn overrun_trace(
@@ -64,15 +166,20 @@ pub(super) fn overrun_trace(
 pub(super) fn long_codel(te: &TimedEngine<'_>, st: &TG3State, t: usize) -> Option<Cause> {
     te.instances(&st.g, t)
         .filter(|(_, i)| i.has(mark::BUSY))
-        .find_map(|(who, i)| longer_than_period(te.m(), t, who, i.state))
+        .find_map(|(who, i)| longer_than_period(te.m(), t, who.owner(), i.state))
 }
 
-/// [`Cause::LongCodel`] when the codel of `who` in `state` (a codel of
+/// [`Cause::LongCodel`] when the codel of `owner` in `state` (a codel of
 /// task `t`) has a WCET longer than `t`'s period.
-pub(super) fn longer_than_period(m: &Machine<'_>, t: usize, who: Who, state: u8) -> Option<Cause> {
+pub(super) fn longer_than_period(
+    m: &Machine<'_>,
+    t: usize,
+    owner: Owner,
+    state: u8,
+) -> Option<Cause> {
     let period = m.tasks[t].period_ns?;
-    let wcet = m.fsm(who.owner()).states[usize::from(state)].wcet_ns?;
-    (wcet > period).then_some(Cause::LongCodel(who.owner(), state))
+    let wcet = m.fsm(owner).states[usize::from(state)].wcet_ns?;
+    (wcet > period).then_some(Cause::LongCodel(owner, state))
 }
 
 /// The cause of the violation of task `t` that `path` ends with, read off
@@ -91,7 +198,7 @@ pub(super) fn cause_on_path(te: &TimedEngine<'_>, path: &[TG3Action], t: usize) 
     // (though it ended, what followed it could not fit).
     let long = wake.iter().find_map(|a| match *a {
         TG3Action::Begin(who, v) if mine(who) => {
-            longer_than_period(m, t, who, Inst::unpack(v)?.state)
+            longer_than_period(m, t, who.owner(), Inst::unpack(v)?.state)
         }
         _ => None,
     });
